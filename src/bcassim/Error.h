@@ -1,0 +1,20 @@
+// Typed errors of the library. The library never prints: it throws these and the CLI shows
+// what() as one line, e.g. "mesh.msh:42: expected 4 node indices, got 3".
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace bcassim {
+// Bad user input: a file, a scene key, a value. The message names the source (file, line or key)
+// and what was expected, on one line.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A numerical failure the caller may handle (diverged solve, inverted element during a step).
+class NumericalError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+}  // namespace bcassim

@@ -1,0 +1,32 @@
+// The contract every material fulfils: strain energy density, first Piola-Kirchhoff stress
+// and its consistent tangent, all as functions of the deformation gradient F (thesis eq. 2.7-2.11).
+#pragma once
+#include <concepts>
+
+#include "bcassim/Types.h"
+
+namespace bcassim {
+
+// energy(F): strain energy density Psi, J/m^3 (= Pa).
+// pk1(F):    P = dPsi/dF, Pa.
+// tangent(F): dP/dF as a 9x9 matrix, C(i, j) = d vec(P)_i / d vec(F)_j with vec() column-major
+//            (index of entry (r, c) of a 3x3 matrix is r + 3c), Pa.
+// name():    short lower-case identifier used in scenes and reports.
+template <class M>
+concept HyperelasticMaterial = requires(const M& m, const Mat3& F) {
+  { m.energy(F) } -> std::convertible_to<double>;
+  { m.pk1(F) } -> std::convertible_to<Mat3>;
+  { m.tangent(F) } -> std::convertible_to<Mat9>;
+  { M::name() } -> std::convertible_to<const char*>;
+};
+
+// Lame constants from Young's modulus E (Pa) and Poisson's ratio nu (-), nu in (-1, 0.5).
+struct LameParameters {
+  double lambda;  // Pa
+  double mu;      // Pa (shear modulus)
+  static LameParameters fromYoungPoisson(double E, double nu) {
+    return {E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu))};
+  }
+};
+
+}  // namespace bcassim

@@ -1,0 +1,31 @@
+// The interface every sparse linear solver of bcassim implements: set a matrix (A is symmetric
+// positive definite, both triangles stored), then solve A x = b for one or many right-hand sides.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "bcassim/Types.h"
+
+namespace bcassim {
+
+struct SolveStatus {
+  bool converged = true;
+  int iterations = 0;              // 0 for direct solves
+  double relativeResidual = 0.0;   // |b - A x| / |b| as measured by the solver (0 if not measured)
+  bool refactorized = false;       // a factorisation was (re)computed during this call
+};
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  // Symbolic analysis of the fixed sparsity pattern; call once (or again if the pattern changes).
+  virtual void analyzePattern(const SparseMatrix& A) = 0;
+  // New numerical values for the matrix analysed before. The solver keeps a reference to A, which
+  // must outlive the following solve() calls. Direct solvers factorise here; iterative ones may not.
+  virtual void setMatrix(const SparseMatrix& A) = 0;
+  // Solves A x = b. x holds the initial guess on entry (used by iterative solvers).
+  virtual SolveStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
+  virtual std::string name() const = 0;
+};
+
+}  // namespace bcassim
