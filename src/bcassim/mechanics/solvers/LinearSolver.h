@@ -10,9 +10,9 @@ namespace bcassim {
 
 struct SolveStatus {
   bool converged = true;
-  int iterations = 0;              // 0 for direct solves
-  double relativeResidual = 0.0;   // |b - A x| / |b| as measured by the solver (0 if not measured)
-  bool refactorized = false;       // a factorisation was (re)computed during this call
+  int iterations = 0;             // 0 for direct solves
+  double relativeResidual = 0.0;  // |b - A x| / |b| as measured by the solver (0 if not measured)
+  bool refactorized = false;      // a factorisation was (re)computed during this call
 };
 
 class LinearSolver {
@@ -21,9 +21,11 @@ class LinearSolver {
   // Symbolic analysis of the fixed sparsity pattern; call once (or again if the pattern changes).
   virtual void analyzePattern(const SparseMatrix& A) = 0;
   // New numerical values for the matrix analysed before. The solver keeps a reference to A, which
-  // must outlive the following solve() calls. Direct solvers factorise here; iterative ones may not.
+  // must outlive the following solve() calls. Direct solvers factorise here; iterative ones
+  // may not.
   virtual void setMatrix(const SparseMatrix& A) = 0;
-  // Solves A x = b. x holds the initial guess on entry (used by iterative solvers).
+  // Solves A x = b. x holds the initial guess on entry (used by iterative solvers; a vector of the
+  // wrong size counts as zero). An instance is used by one thread at a time.
   virtual SolveStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
   virtual std::string name() const = 0;
 };
