@@ -1,0 +1,221 @@
+#include "bcassim/mechanics/solvers/CholeskyFactor.h"
+
+#include <cholmod.h>
+
+#include <atomic>
+#include <new>
+#include <stdexcept>
+#include <string>
+
+#include "bcassim/Error.h"
+
+namespace bcassim {
+namespace {
+
+// A cholmod_common set up for bcassim: supernodal LL^T, quiet (the library never prints), CPU
+// only. Every object that calls CHOLMOD owns one, because CHOLMOD keeps workspace and status
+// there and is thread-safe only across distinct cholmod_common objects.
+struct Common {
+  cholmod_common c;
+  Common() {
+    cholmod_start(&c);
+    c.print = 0;
+    c.supernodal = CHOLMOD_SUPERNODAL;
+    c.useGPU = 0;
+  }
+  ~Common() { cholmod_finish(&c); }
+  Common(const Common&) = delete;
+  Common& operator=(const Common&) = delete;
+};
+
+// Throws for a CHOLMOD call that failed; where names the operation.
+void check(int ok, const cholmod_common& c, const char* where) {
+  if (ok && c.status >= CHOLMOD_OK) return;
+  if (c.status == CHOLMOD_OUT_OF_MEMORY) throw std::bad_alloc();
+  throw NumericalError(std::string(where) + " failed (CHOLMOD status " + std::to_string(c.status) +
+                       ")");
+}
+
+// CHOLMOD view of A without copying; stype = -1 reads the lower triangle only.
+cholmod_sparse sparseView(const SparseMatrix& A) {
+  cholmod_sparse v{};
+  v.nrow = static_cast<size_t>(A.rows());
+  v.ncol = static_cast<size_t>(A.cols());
+  v.nzmax = static_cast<size_t>(A.nonZeros());
+  v.p = const_cast<int*>(A.outerIndexPtr());
+  v.i = const_cast<int*>(A.innerIndexPtr());
+  v.nz = A.isCompressed() ? nullptr : const_cast<int*>(A.innerNonZeroPtr());
+  v.x = const_cast<double*>(A.valuePtr());
+  v.stype = -1;
+  v.itype = CHOLMOD_INT;
+  v.xtype = CHOLMOD_REAL;
+  v.dtype = CHOLMOD_DOUBLE;
+  v.sorted = 1;
+  v.packed = A.isCompressed() ? 1 : 0;
+  return v;
+}
+
+// CHOLMOD view of a column-major block; CHOLMOD only reads a right-hand side.
+cholmod_dense denseView(const double* data, Eigen::Index rows, Eigen::Index cols) {
+  cholmod_dense v{};
+  v.nrow = static_cast<size_t>(rows);
+  v.ncol = static_cast<size_t>(cols);
+  v.d = static_cast<size_t>(rows);
+  v.nzmax = static_cast<size_t>(rows * cols);
+  v.x = const_cast<double*>(data);
+  v.xtype = CHOLMOD_REAL;
+  v.dtype = CHOLMOD_DOUBLE;
+  return v;
+}
+
+}  // namespace
+
+struct CholeskyFactor::Symbolic {
+  Common common;
+  cholmod_factor* L = nullptr;  // supernodal, pattern only; copied by every Numeric
+  Eigen::Index rows = 0;
+  Eigen::Index matrixNonZeros = 0;
+  std::int64_t factorNonZeros = 0;
+  ~Symbolic() { cholmod_free_factor(&L, &common.c); }
+};
+
+struct CholeskyFactor::Numeric {
+  Common common;
+  cholmod_factor* L = nullptr;  // numerical factor, valid when factorized
+  bool factorized = false;
+  void release() {
+    cholmod_free_factor(&L, &common.c);
+    factorized = false;
+  }
+  ~Numeric() { release(); }
+};
+
+struct CholeskyFactor::Workspace::Impl {
+  Common common;
+  cholmod_dense* X = nullptr;  // solution, copied out to Eigen
+  cholmod_dense* Y = nullptr;  // permuted right-hand sides
+  cholmod_dense* E = nullptr;  // supernodal solve scratch
+  cholmod_sparse* Xset = nullptr;
+  ~Impl() {
+    cholmod_free_dense(&X, &common.c);
+    cholmod_free_dense(&Y, &common.c);
+    cholmod_free_dense(&E, &common.c);
+    cholmod_free_sparse(&Xset, &common.c);
+  }
+};
+
+CholeskyFactor::Workspace::Workspace() : impl_(std::make_unique<Impl>()) {}
+CholeskyFactor::Workspace::~Workspace() = default;
+CholeskyFactor::Workspace::Workspace(Workspace&&) noexcept = default;
+CholeskyFactor::Workspace& CholeskyFactor::Workspace::operator=(Workspace&&) noexcept = default;
+
+CholeskyFactor::CholeskyFactor() : numeric_(std::make_unique<Numeric>()) {}
+CholeskyFactor::~CholeskyFactor() = default;
+
+void CholeskyFactor::analyzePattern(const SparseMatrix& A) {
+  if (A.rows() != A.cols()) throw std::invalid_argument("CholeskyFactor: matrix is not square");
+  numeric_->release();
+  auto symbolic = std::make_shared<Symbolic>();
+  cholmod_sparse view = sparseView(A);
+  symbolic->L = cholmod_analyze(&view, &symbolic->common.c);
+  check(symbolic->L != nullptr, symbolic->common.c, "Cholesky analysis");
+  symbolic->rows = A.rows();
+  symbolic->matrixNonZeros = A.nonZeros();
+  symbolic->factorNonZeros = static_cast<std::int64_t>(symbolic->common.c.lnz);
+  symbolic_ = std::move(symbolic);
+}
+
+void CholeskyFactor::factorize(const SparseMatrix& A) {
+  if (!matchesPattern(A)) analyzePattern(A);
+  Numeric& num = *numeric_;
+  num.factorized = false;
+  if (num.L == nullptr) {
+    num.L = cholmod_copy_factor(symbolic_->L, &num.common.c);
+    check(num.L != nullptr, num.common.c, "Cholesky factor allocation");
+  }
+  cholmod_sparse view = sparseView(A);
+  const int ok = cholmod_factorize(&view, num.L, &num.common.c);
+  if (num.common.c.status == CHOLMOD_NOT_POSDEF || (ok && num.L->minor < num.L->n)) {
+    const auto column = num.L->minor;
+    num.release();  // a failed factor is rebuilt from the analysis next time
+    throw NumericalError("Cholesky factorisation: matrix is not positive definite (pivot " +
+                         std::to_string(column) + " of " + std::to_string(A.rows()) + ")");
+  }
+  if (!ok || num.common.c.status < CHOLMOD_OK) num.release();
+  check(ok, num.common.c, "Cholesky factorisation");
+  num.factorized = true;
+}
+
+std::shared_ptr<CholeskyFactor> CholeskyFactor::cloneAnalysis() const {
+  if (!symbolic_) throw std::logic_error("CholeskyFactor::cloneAnalysis before analyzePattern");
+  auto clone = std::make_shared<CholeskyFactor>();
+  clone->symbolic_ = symbolic_;
+  return clone;
+}
+
+void CholeskyFactor::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, Workspace& work) const {
+  if (!isFactorized()) throw std::logic_error("CholeskyFactor::solve before a factorisation");
+  if (B.rows() != rows()) throw std::invalid_argument("CholeskyFactor::solve: wrong size of b");
+  X.resize(B.rows(), B.cols());
+  if (B.cols() == 0) return;
+  Workspace::Impl& w = *work.impl_;
+  cholmod_dense b = denseView(B.data(), B.rows(), B.cols());
+  // Without a Bset, cholmod_solve2 on a supernodal factor only reads L and writes the
+  // workspace's buffers and cholmod_common: this is what makes concurrent solves safe.
+  const int ok =
+      cholmod_solve2(CHOLMOD_A, numeric_->L, &b, nullptr, &w.X, &w.Xset, &w.Y, &w.E, &w.common.c);
+  check(ok, w.common.c, "Cholesky solve");
+  X = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>(
+      static_cast<const double*>(w.X->x), B.rows(), B.cols(),
+      Eigen::OuterStride<>(static_cast<Eigen::Index>(w.X->d)));
+}
+
+void CholeskyFactor::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const {
+  Workspace work;
+  solve(B, X, work);
+}
+
+void CholeskyFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, Workspace& work) const {
+  if (!isFactorized()) throw std::logic_error("CholeskyFactor::solve before a factorisation");
+  if (b.size() != rows()) throw std::invalid_argument("CholeskyFactor::solve: wrong size of b");
+  Workspace::Impl& w = *work.impl_;
+  cholmod_dense bView = denseView(b.data(), b.size(), 1);
+  const int ok = cholmod_solve2(CHOLMOD_A, numeric_->L, &bView, nullptr, &w.X, &w.Xset, &w.Y, &w.E,
+                                &w.common.c);
+  check(ok, w.common.c, "Cholesky solve");
+  x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(w.X->x), b.size());
+}
+
+void CholeskyFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  Workspace work;
+  solve(b, x, work);
+}
+
+bool CholeskyFactor::isAnalyzed() const { return symbolic_ != nullptr; }
+bool CholeskyFactor::isFactorized() const { return numeric_->factorized; }
+Eigen::Index CholeskyFactor::rows() const { return symbolic_ ? symbolic_->rows : 0; }
+
+bool CholeskyFactor::matchesPattern(const SparseMatrix& A) const {
+  return symbolic_ && A.rows() == symbolic_->rows && A.cols() == symbolic_->rows &&
+         A.nonZeros() == symbolic_->matrixNonZeros;
+}
+
+std::int64_t CholeskyFactor::factorNonZeros() const {
+  return symbolic_ ? symbolic_->factorNonZeros : 0;
+}
+
+void factorizeUnshared(std::shared_ptr<CholeskyFactor>& factor, const SparseMatrix& A) {
+  if (!factor) {
+    factor = std::make_shared<CholeskyFactor>();
+  } else if (factor.use_count() > 1) {
+    factor = factor->isAnalyzed() && factor->matchesPattern(A) ? factor->cloneAnalysis()
+                                                               : std::make_shared<CholeskyFactor>();
+  } else {
+    // use_count() is a relaxed load; the fence orders our writes after the last reads of the
+    // owners who released the factor.
+    std::atomic_thread_fence(std::memory_order_acquire);
+  }
+  factor->factorize(A);
+}
+
+}  // namespace bcassim

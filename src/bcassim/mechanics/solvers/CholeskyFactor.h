@@ -1,0 +1,73 @@
+// A sparse Cholesky factorisation A = L L^T (CHOLMOD, supernodal) that can be computed once and
+// then used read-only by many threads, e.g. as the preconditioner shared by all sigma points.
+#pragma once
+#include <cstdint>
+#include <memory>
+
+#include "bcassim/Types.h"
+
+namespace bcassim {
+
+class CholeskyFactor {
+ public:
+  // Scratch memory of solve(): CHOLMOD's cholmod_common and dense buffers. Give each thread its
+  // own (a solver keeps one) so that repeated solves allocate nothing.
+  class Workspace {
+   public:
+    Workspace();
+    ~Workspace();
+    Workspace(Workspace&&) noexcept;
+    Workspace& operator=(Workspace&&) noexcept;
+
+   private:
+    friend class CholeskyFactor;
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+  };
+
+  CholeskyFactor();
+  ~CholeskyFactor();
+  CholeskyFactor(const CholeskyFactor&) = delete;
+  CholeskyFactor& operator=(const CholeskyFactor&) = delete;
+
+  // Fill-reducing ordering (AMD or METIS, as CHOLMOD chooses) and supernodal symbolic analysis of
+  // the pattern of A. A is symmetric with both triangles stored; only the lower one is read.
+  void analyzePattern(const SparseMatrix& A);
+  // Numerical factorisation of A, whose pattern was analysed (analyses it first if not).
+  // Throws NumericalError if A is not positive definite; the factor is then unusable.
+  void factorize(const SparseMatrix& A);
+  // A new, unfactorised CholeskyFactor that shares this one's symbolic analysis (read-only), so
+  // factorising it costs only the numerical phase. This factor is left untouched.
+  std::shared_ptr<CholeskyFactor> cloneAnalysis() const;
+
+  // x = A^{-1} b with the last factorised A. Const and thread-safe: any number of threads may
+  // call solve() concurrently, each with its own workspace (or none), while nobody calls
+  // analyzePattern() or factorize() on this object.
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, Workspace& work) const;
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  // Block of right-hand sides, one per column of B: X = A^{-1} B in one sweep over L.
+  void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, Workspace& work) const;
+  void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const;
+
+  bool isAnalyzed() const;
+  bool isFactorized() const;
+  Eigen::Index rows() const;
+  // Whether A has the size and number of stored entries of the analysed pattern (a cheap check
+  // that the analysis applies to A).
+  bool matchesPattern(const SparseMatrix& A) const;
+  // Entries of L (from the symbolic analysis), for reports of memory and cost.
+  std::int64_t factorNonZeros() const;
+
+ private:
+  struct Symbolic;
+  std::shared_ptr<const Symbolic> symbolic_;
+  struct Numeric;
+  std::unique_ptr<Numeric> numeric_;
+};
+
+// Factorises A into factor without disturbing anyone else who holds it: a factor shared with
+// other owners (threads may be solving with it) is replaced by a fresh one that reuses its
+// analysis; a factor held only here is refactorised in place.
+void factorizeUnshared(std::shared_ptr<CholeskyFactor>& factor, const SparseMatrix& A);
+
+}  // namespace bcassim

@@ -1,0 +1,28 @@
+// Direct solver: CHOLMOD supernodal Cholesky, analysed once per pattern and factorised for
+// every matrix; solves are exact up to rounding.
+#pragma once
+#include <memory>
+
+#include "bcassim/mechanics/solvers/CholeskyFactor.h"
+#include "bcassim/mechanics/solvers/LinearSolver.h"
+
+namespace bcassim {
+
+class CholmodSolver final : public LinearSolver {
+ public:
+  CholmodSolver();
+  void analyzePattern(const SparseMatrix& A) override;
+  // Factorises A; throws NumericalError if A is not positive definite.
+  void setMatrix(const SparseMatrix& A) override;
+  SolveStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
+  std::string name() const override { return "cholmod"; }
+  // The factor of the last matrix, e.g. to precondition other solvers (see FactorizedPcgSolver).
+  // Later setMatrix calls factorise into a new object while it is held elsewhere.
+  const std::shared_ptr<CholeskyFactor>& factor() const { return factor_; }
+
+ private:
+  std::shared_ptr<CholeskyFactor> factor_;
+  CholeskyFactor::Workspace work_;
+};
+
+}  // namespace bcassim
