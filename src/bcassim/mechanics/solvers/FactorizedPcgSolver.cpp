@@ -1,0 +1,61 @@
+#include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
+
+#include <stdexcept>
+
+#include "bcassim/mechanics/solvers/CholeskyPreconditioner.h"
+
+namespace bcassim {
+
+FactorizedPcgSolver::FactorizedPcgSolver(RefreshPolicy policy)
+    : FactorizedPcgSolver(std::make_shared<CholeskyFactor>(), policy) {}
+
+FactorizedPcgSolver::FactorizedPcgSolver(std::shared_ptr<CholeskyFactor> factor,
+                                         RefreshPolicy policy)
+    : policy_(policy), factor_(factor ? std::move(factor) : std::make_shared<CholeskyFactor>()) {}
+
+void FactorizedPcgSolver::analyzePattern(const SparseMatrix& A) {
+  if (factor_->isAnalyzed() && factor_->matchesPattern(A)) return;
+  auto factor = std::make_shared<CholeskyFactor>();
+  factor->analyzePattern(A);
+  factor_ = std::move(factor);
+  matricesSinceFactorization_ = 0;
+}
+
+void FactorizedPcgSolver::setMatrix(const SparseMatrix& A) {
+  A_ = &A;
+  ++matricesSinceFactorization_;
+  const bool due =
+      policy_.everyNMatrices > 0 && matricesSinceFactorization_ > policy_.everyNMatrices;
+  if (!factor_->isFactorized() || !factor_->matchesPattern(A) || due) refactorize();
+}
+
+void FactorizedPcgSolver::refactorize() {
+  factorizeUnshared(factor_, *A_);
+  matricesSinceFactorization_ = 1;
+  ++factorizations_;
+}
+
+void FactorizedPcgSolver::shareFactor(std::shared_ptr<CholeskyFactor> factor) {
+  if (!factor) throw std::invalid_argument("FactorizedPcgSolver::shareFactor: null factor");
+  factor_ = std::move(factor);
+  matricesSinceFactorization_ = 0;
+}
+
+SolveStatus FactorizedPcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (A_ == nullptr) throw std::logic_error("FactorizedPcgSolver::solve before setMatrix");
+  SolveStatus first = preconditionedCg(*A_, b, x, CholeskyPreconditioner(*factor_, factorWork_),
+                                       policy_.relTol, policy_.maxIterations, cgWork_);
+  if (first.converged) return first;
+
+  // The stored factorisation no longer preconditions A well: factorise A itself. Its direct
+  // solution is exact up to rounding, so PCG from there only confirms (or refines) it.
+  refactorize();
+  factor_->solve(b, x, factorWork_);
+  SolveStatus second = preconditionedCg(*A_, b, x, CholeskyPreconditioner(*factor_, factorWork_),
+                                        policy_.relTol, policy_.maxIterations, cgWork_);
+  second.iterations += first.iterations;
+  second.refactorized = true;
+  return second;
+}
+
+}  // namespace bcassim

@@ -1,0 +1,431 @@
+// Linear solvers: every solver reproduces a known solution; PCG preconditioned by a stored
+// factorisation matches the direct solution; refresh policy; concurrent and block solves; errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bcassim/Error.h"
+#include "bcassim/mechanics/solvers/CholeskyFactor.h"
+#include "bcassim/mechanics/solvers/CholmodSolver.h"
+#include "bcassim/mechanics/solvers/ConjugateGradient.h"
+#include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
+#include "bcassim/mechanics/solvers/JacobiPcgSolver.h"
+#include "bcassim/mechanics/solvers/LinearSolverFactory.h"
+
+namespace bcassim {
+namespace {
+
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+// 7-point Laplacian of an n^3 grid (Dirichlet outside, so SPD) coupled by an SPD 3x3 block per
+// node pair, plus shift * I: SPD, both triangles stored, like a stiffness matrix with 3 dofs
+// per node. Nodes on the plane z = 0 are fixed: their rows and columns are identity rows.
+SparseMatrix laplacian3d(int n, double shift) {
+  Mat3 block;
+  block << 2.0, 0.5, 0.2, 0.5, 2.0, 0.3, 0.2, 0.3, 2.0;
+  auto id = [n](int i, int j, int k) { return (k * n + j) * n + i; };
+  Triplets t;
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const int a = id(i, j, k);
+        const bool fixedA = k == 0;
+        auto add = [&](int b, double w) {
+          if (fixedA || b < n * n) return;  // fixed nodes are b < n*n (plane z = 0)
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) t.emplace_back(3 * a + r, 3 * b + c, w * block(r, c));
+        };
+        for (int d = 0; d < 3; ++d) {
+          t.emplace_back(3 * a + d, 3 * a + d, fixedA ? 1.0 : shift);
+        }
+        add(a, 6.0);
+        if (i > 0) add(id(i - 1, j, k), -1.0);
+        if (i + 1 < n) add(id(i + 1, j, k), -1.0);
+        if (j > 0) add(id(i, j - 1, k), -1.0);
+        if (j + 1 < n) add(id(i, j + 1, k), -1.0);
+        if (k > 0) add(id(i, j, k - 1), -1.0);
+        if (k + 1 < n) add(id(i, j, k + 1), -1.0);
+      }
+    }
+  }
+  SparseMatrix A(3 * n * n * n, 3 * n * n * n);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+// Random symmetric sparse matrix made SPD by strict diagonal dominance. Entries lie within a
+// band of 100 columns, as in a mesh with a locality-preserving node order, so that the Cholesky
+// factor does not fill in completely.
+SparseMatrix randomSpd(int size, int entriesPerRow, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> offset(-50, 50);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  Triplets t;
+  Eigen::VectorXd rowSum = Eigen::VectorXd::Zero(size);
+  for (int i = 0; i < size; ++i) {
+    for (int e = 0; e < entriesPerRow / 2; ++e) {
+      const int j = i + offset(rng);
+      if (j == i || j < 0 || j >= size) continue;
+      const double v = value(rng);
+      t.emplace_back(i, j, v);
+      t.emplace_back(j, i, v);
+      rowSum[i] += std::abs(v);
+      rowSum[j] += std::abs(v);
+    }
+  }
+  for (int i = 0; i < size; ++i) t.emplace_back(i, i, rowSum[i] + 0.1);
+  SparseMatrix A(size, size);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+// S A S + amount * sum over stored pairs i<j of w_ij |a_ij| (e_i - e_j)(e_i - e_j)^T with
+// S = diag(1 + amount * u_i), u and w uniform in [-1, 1] and [0, 1]: a symmetric change of
+// diagonal and off-diagonal entries by about `amount`, same pattern, still SPD.
+SparseMatrix perturb(const SparseMatrix& A, double amount, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_real_distribution<double> w(0.0, 1.0);
+  Eigen::VectorXd s(A.rows());
+  for (Eigen::Index i = 0; i < s.size(); ++i) s[i] = 1.0 + amount * u(rng);
+  SparseMatrix B = s.asDiagonal() * A * s.asDiagonal();
+  Eigen::VectorXd diagonalAdd = Eigen::VectorXd::Zero(A.rows());
+  for (int j = 0; j < B.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(B, j); it; ++it) {
+      if (it.row() <= j) continue;  // lower triangle, mirrored below
+      const double c = amount * w(rng) * std::abs(A.coeff(it.row(), j));
+      it.valueRef() -= c;
+      B.coeffRef(j, it.row()) -= c;
+      diagonalAdd[j] += c;
+      diagonalAdd[it.row()] += c;
+    }
+  }
+  for (Eigen::Index i = 0; i < B.rows(); ++i) B.coeffRef(i, i) += diagonalAdd[i];
+  return B;
+}
+
+Eigen::VectorXd randomVector(Eigen::Index size, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::VectorXd v(size);
+  for (Eigen::Index i = 0; i < size; ++i) v[i] = u(rng);
+  return v;
+}
+
+double relativeError(const Eigen::VectorXd& x, const Eigen::VectorXd& reference) {
+  return (x - reference).norm() / reference.norm();
+}
+
+Eigen::VectorXd directSolve(const SparseMatrix& A, const Eigen::VectorXd& b) {
+  CholmodSolver direct;
+  direct.analyzePattern(A);
+  direct.setMatrix(A);
+  Eigen::VectorXd x;
+  direct.solve(b, x);
+  return x;
+}
+
+// --- one harness for every solver ------------------------------------------------------------
+
+struct HarnessCase {
+  std::string solver;
+  std::string matrix;
+};
+
+class SolverHarness : public ::testing::TestWithParam<HarnessCase> {};
+
+TEST_P(SolverHarness, ReproducesKnownSolution) {
+  const auto& [solverName, matrixName] = GetParam();
+  const SparseMatrix A = matrixName == "laplacian" ? laplacian3d(10, 0.1) : randomSpd(3000, 12, 7);
+  const Eigen::VectorXd xStar = randomVector(A.rows(), 1);
+  const Eigen::VectorXd b = A * xStar;
+
+  RefreshPolicy policy;
+  policy.relTol = 1e-13;
+  auto solver = makeLinearSolver(solverName, policy);
+  EXPECT_EQ(solver->name(), solverName);
+  solver->analyzePattern(A);
+  solver->setMatrix(A);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A.rows());
+  const SolveStatus status = solver->solve(b, x);
+  EXPECT_TRUE(status.converged);
+  EXPECT_LE(relativeError(x, xStar), 1e-8);
+  EXPECT_LE((b - A * x).norm() / b.norm(), 1e-12);
+}
+
+std::vector<HarnessCase> harnessCases() {
+  std::vector<HarnessCase> cases;
+  for (const char* s : {"cg", "jacobi-pcg", "cholmod", "factorized-pcg"})
+    for (const char* m : {"laplacian", "random"}) cases.push_back({s, m});
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllSolvers, SolverHarness, ::testing::ValuesIn(harnessCases()),
+                         [](const auto& info) {
+                           std::string name = info.param.solver + "_" + info.param.matrix;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+// --- conjugate gradients ---------------------------------------------------------------------
+
+TEST(SolverCg, ZeroRightHandSideGivesZeroWithoutIterations) {
+  const SparseMatrix A = laplacian3d(4, 0.1);
+  Eigen::VectorXd x = randomVector(A.rows(), 3);
+  const SolveStatus status =
+      preconditionedCg(A, Eigen::VectorXd::Zero(A.rows()), x, IdentityPreconditioner(), 1e-10, 10);
+  EXPECT_TRUE(status.converged);
+  EXPECT_EQ(status.iterations, 0);
+  EXPECT_EQ(x.norm(), 0.0);
+}
+
+TEST(SolverCg, ReportsNonConvergenceAtIterationLimit) {
+  const SparseMatrix A = laplacian3d(8, 0.1);
+  const Eigen::VectorXd b = randomVector(A.rows(), 4);
+  Eigen::VectorXd x;
+  const SolveStatus status = preconditionedCg(A, b, x, IdentityPreconditioner(), 1e-12, 5);
+  EXPECT_FALSE(status.converged);
+  EXPECT_EQ(status.iterations, 5);
+  EXPECT_NEAR(status.relativeResidual, (b - A * x).norm() / b.norm(), 1e-14);
+}
+
+TEST(SolverCg, IndefiniteMatrixThrowsNumericalError) {
+  SparseMatrix A = laplacian3d(4, 0.1);
+  A.diagonal() *= -1.0;  // negative definite on the free dofs
+  const Eigen::VectorXd b = randomVector(A.rows(), 5);
+  Eigen::VectorXd x;
+  EXPECT_THROW(preconditionedCg(A, b, x, IdentityPreconditioner(), 1e-10, 100), NumericalError);
+}
+
+// --- PCG with a stored factorisation ---------------------------------------------------------
+
+TEST(SolverFactorizedPcg, ReusedFactorizationGivesDirectSolution) {
+  const SparseMatrix A0 = laplacian3d(14, 0.05);
+  const SparseMatrix A1 = perturb(A0, 0.05, 11);
+  const Eigen::VectorXd b = randomVector(A0.rows(), 12);
+  const Eigen::VectorXd xDirect = directSolve(A1, b);
+
+  RefreshPolicy policy;
+  policy.relTol = 1e-12;
+  FactorizedPcgSolver pcg(policy);
+  pcg.analyzePattern(A0);
+  pcg.setMatrix(A0);  // factorises A0
+  pcg.setMatrix(A1);  // keeps the factor of A0
+  EXPECT_EQ(pcg.factorizations(), 1);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A1.rows());
+  const SolveStatus reuse = pcg.solve(b, x);
+  EXPECT_TRUE(reuse.converged);
+  EXPECT_FALSE(reuse.refactorized);
+  EXPECT_EQ(pcg.factorizations(), 1);
+  EXPECT_LE(relativeError(x, xDirect), 1e-8);
+
+  JacobiPcgSolver jacobi(policy.relTol);
+  jacobi.setMatrix(A1);
+  Eigen::VectorXd xJacobi = Eigen::VectorXd::Zero(A1.rows());
+  const SolveStatus reference = jacobi.solve(b, xJacobi);
+  EXPECT_TRUE(reference.converged);
+  EXPECT_GT(reuse.iterations, 0);
+  EXPECT_LT(3 * reuse.iterations, reference.iterations)
+      << "reused factor: " << reuse.iterations << ", Jacobi: " << reference.iterations;
+}
+
+TEST(SolverFactorizedPcg, RefreshesEveryNMatrices) {
+  const SparseMatrix A0 = laplacian3d(6, 0.1);
+  RefreshPolicy policy;
+  policy.everyNMatrices = 3;
+  policy.maxIterations = 1000;  // never refresh because of iterations
+  policy.relTol = 1e-12;
+  FactorizedPcgSolver solver(policy);
+  solver.analyzePattern(A0);
+  std::vector<int> refactorizedAt;
+  for (int m = 1; m <= 8; ++m) {
+    const SparseMatrix A = perturb(A0, 0.05, 100 + m);
+    const int before = solver.factorizations();
+    solver.setMatrix(A);
+    if (solver.factorizations() > before) refactorizedAt.push_back(m);
+    const Eigen::VectorXd b = randomVector(A.rows(), m);
+    Eigen::VectorXd x;
+    const SolveStatus status = solver.solve(b, x);
+    EXPECT_FALSE(status.refactorized);
+    EXPECT_LE(relativeError(x, directSolve(A, b)), 1e-8);
+  }
+  EXPECT_EQ(refactorizedAt, (std::vector<int>{1, 4, 7}));
+}
+
+TEST(SolverFactorizedPcg, RefactorizesInsideSolveWhenPcgNeedsTooManyIterations) {
+  const SparseMatrix A0 = laplacian3d(8, 0.1);
+  const SparseMatrix A1 = perturb(A0, 0.5, 21);
+  const Eigen::VectorXd b = randomVector(A0.rows(), 22);
+  RefreshPolicy policy;
+  policy.maxIterations = 1;
+  FactorizedPcgSolver solver(policy);
+  solver.setMatrix(A0);
+  solver.setMatrix(A1);
+  Eigen::VectorXd x;
+  const SolveStatus status = solver.solve(b, x);
+  EXPECT_TRUE(status.refactorized);
+  EXPECT_TRUE(status.converged);
+  EXPECT_EQ(solver.factorizations(), 2);
+  EXPECT_LE(relativeError(x, directSolve(A1, b)), 1e-12);
+
+  // The fresh factor is exact for A1: the next solve needs no refresh.
+  Eigen::VectorXd y;
+  const SolveStatus next = solver.solve(randomVector(A0.rows(), 23), y);
+  EXPECT_FALSE(next.refactorized);
+  EXPECT_LE(next.iterations, 1);
+}
+
+TEST(SolverFactorizedPcg, SharedFactorIsUsedAndNeverModified) {
+  const SparseMatrix A0 = laplacian3d(8, 0.1);
+  const SparseMatrix A1 = perturb(A0, 0.05, 31);
+  const SparseMatrix A2 = perturb(A0, 0.5, 32);
+  const Eigen::VectorXd b = randomVector(A0.rows(), 33);
+
+  FactorizedPcgSolver owner;
+  owner.setMatrix(A0);
+  const std::shared_ptr<CholeskyFactor> shared = owner.factor();
+  RefreshPolicy policy;
+  policy.maxIterations = 3;
+  FactorizedPcgSolver sigma(shared, policy);
+  sigma.analyzePattern(A1);  // same pattern: keeps the shared factor
+  sigma.setMatrix(A1);
+  EXPECT_EQ(sigma.factorizations(), 0);
+  EXPECT_EQ(sigma.factor(), shared);
+
+  sigma.setMatrix(A2);  // too far from A0: the solve refreshes into a factor of its own
+  Eigen::VectorXd x;
+  EXPECT_TRUE(sigma.solve(b, x).refactorized);
+  EXPECT_NE(sigma.factor(), shared);
+  EXPECT_EQ(owner.factor(), shared);
+  Eigen::VectorXd x0;
+  shared->solve(b, x0);  // still the factor of A0
+  EXPECT_LE(relativeError(x0, directSolve(A0, b)), 1e-12);
+}
+
+// --- the shared factor across threads --------------------------------------------------------
+
+TEST(SolverCholeskyFactor, ConcurrentSolvesMatchSequentialOnes) {
+  const SparseMatrix A = laplacian3d(12, 0.1);
+  auto factor = std::make_shared<CholeskyFactor>();
+  factor->analyzePattern(A);
+  factor->factorize(A);
+
+  constexpr int kThreads = 4;
+  constexpr int kSolvesPerThread = 6;
+  std::vector<std::vector<Eigen::VectorXd>> rhs(kThreads), sequential(kThreads),
+      concurrent(kThreads);
+  for (int t = 0; t < kThreads; ++t) {
+    for (int s = 0; s < kSolvesPerThread; ++s) {
+      rhs[t].push_back(randomVector(A.rows(), 1000 * t + s));
+      Eigen::VectorXd x;
+      factor->solve(rhs[t].back(), x);
+      sequential[t].push_back(x);
+    }
+  }
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      CholeskyFactor::Workspace work;  // odd threads reuse a workspace, even ones use none
+      for (int s = 0; s < kSolvesPerThread; ++s) {
+        Eigen::VectorXd x;
+        if (t % 2) {
+          factor->solve(rhs[t][s], x, work);
+        } else {
+          factor->solve(rhs[t][s], x);
+        }
+        concurrent[t].push_back(x);
+      }
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  for (int t = 0; t < kThreads; ++t) {
+    for (int s = 0; s < kSolvesPerThread; ++s) {
+      EXPECT_EQ(concurrent[t][s], sequential[t][s]) << "thread " << t << ", solve " << s;
+      EXPECT_LE((A * concurrent[t][s] - rhs[t][s]).norm() / rhs[t][s].norm(), 1e-12);
+    }
+  }
+}
+
+TEST(SolverCholeskyFactor, SigmaPointSolversShareOneFactorConcurrently) {
+  const SparseMatrix A0 = laplacian3d(10, 0.1);
+  FactorizedPcgSolver first;
+  first.setMatrix(A0);
+
+  constexpr int kThreads = 3;
+  std::vector<SparseMatrix> matrices;
+  std::vector<Eigen::VectorXd> rhs, results(kThreads);
+  std::vector<SolveStatus> statuses(kThreads);
+  for (int t = 0; t < kThreads; ++t) {
+    matrices.push_back(perturb(A0, 0.05, 40 + t));
+    rhs.push_back(randomVector(A0.rows(), 50 + t));
+  }
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      FactorizedPcgSolver sigma(first.factor());
+      sigma.setMatrix(matrices[t]);
+      statuses[t] = sigma.solve(rhs[t], results[t]);
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  for (int t = 0; t < kThreads; ++t) {
+    EXPECT_TRUE(statuses[t].converged);
+    EXPECT_FALSE(statuses[t].refactorized);
+    EXPECT_LE(relativeError(results[t], directSolve(matrices[t], rhs[t])), 1e-8);
+  }
+}
+
+TEST(SolverCholeskyFactor, BlockSolveEqualsColumnByColumnSolves) {
+  const SparseMatrix A = randomSpd(2000, 10, 61);
+  CholeskyFactor factor;
+  factor.factorize(A);  // analyses on first use
+  Eigen::MatrixXd B(A.rows(), 5);
+  for (int c = 0; c < B.cols(); ++c) B.col(c) = randomVector(A.rows(), 70 + c);
+  Eigen::MatrixXd X;
+  factor.solve(B, X);
+  ASSERT_EQ(X.rows(), B.rows());
+  ASSERT_EQ(X.cols(), B.cols());
+  CholeskyFactor::Workspace work;
+  for (int c = 0; c < B.cols(); ++c) {
+    Eigen::VectorXd x;
+    factor.solve(Eigen::VectorXd(B.col(c)), x, work);
+    EXPECT_LE(relativeError(X.col(c), x), 1e-14) << "column " << c;
+    EXPECT_LE((A * x - B.col(c)).norm() / B.col(c).norm(), 1e-12);
+  }
+}
+
+// --- errors ----------------------------------------------------------------------------------
+
+TEST(SolverCholmod, NonPositiveDefiniteMatrixThrowsNumericalError) {
+  const SparseMatrix spd = laplacian3d(5, 0.1);
+  SparseMatrix indefinite = spd;
+  indefinite.coeffRef(200, 200) = -1.0;
+  CholmodSolver solver;
+  solver.analyzePattern(indefinite);
+  EXPECT_THROW(solver.setMatrix(indefinite), NumericalError);
+
+  // The solver recovers with a positive definite matrix of the same pattern.
+  solver.setMatrix(spd);
+  const Eigen::VectorXd xStar = randomVector(spd.rows(), 81);
+  Eigen::VectorXd x;
+  solver.solve(spd * xStar, x);
+  EXPECT_LE(relativeError(x, xStar), 1e-10);
+}
+
+TEST(SolverFactory, UnknownNameThrowsInputErrorNamingTheChoices) {
+  try {
+    makeLinearSolver("lu");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "unknown linear solver 'lu'; expected one of cg, jacobi-pcg, cholmod, "
+                 "factorized-pcg");
+  }
+}
+
+}  // namespace
+}  // namespace bcassim
