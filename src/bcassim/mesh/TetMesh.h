@@ -5,8 +5,8 @@
 
 namespace bcassim {
 struct TetMesh {
-  Eigen::MatrixX3d V;     // #V by 3 rest positions, metres
-  Eigen::MatrixX4i T;     // #T by 4 node indices
+  Eigen::MatrixX3d V;      // #V by 3 rest positions, metres
+  Eigen::MatrixX4i T;      // #T by 4 node indices
   Eigen::VectorXi region;  // #T region id (0 when the mesh has none); empty means all 0
 
   Eigen::Index numNodes() const { return V.rows(); }
