@@ -122,6 +122,7 @@ void CholeskyFactor::analyzePattern(const SparseMatrix& A) {
   symbolic->rows = A.rows();
   symbolic->matrixNonZeros = A.nonZeros();
   symbolic->factorNonZeros = static_cast<std::int64_t>(symbolic->common.c.lnz);
+  cholmod_free_work(&symbolic->common.c);  // the analysis is kept for its lifetime; its scratch not
   symbolic_ = std::move(symbolic);
 }
 
