@@ -35,6 +35,8 @@ class CholeskyFactor {
   void analyzePattern(const SparseMatrix& A);
   // Numerical factorisation of A, whose pattern was analysed (analyses it first if not).
   // Throws NumericalError if A is not positive definite; the factor is then unusable.
+  // The BLAS work runs on the calling thread; CHOLMOD 3 itself runs a few O(n) copy loops under
+  // OpenMP here (solves never do).
   void factorize(const SparseMatrix& A);
   // A new, unfactorised CholeskyFactor that shares this one's symbolic analysis (read-only), so
   // factorising it costs only the numerical phase. This factor is left untouched.
