@@ -1,0 +1,88 @@
+#include "bcassim/io/CsvTracks.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+#include "bcassim/Error.h"
+#include "bcassim/io/Files.h"
+#include "bcassim/io/CsvTable.h"
+
+namespace bcassim {
+namespace {
+
+const std::vector<std::string> kColumns = {"time", "marker", "x", "y", "z"};
+// A marker index is a small count; a huge one is a corrupt file, not a reason to allocate.
+constexpr long long kMaxMarkers = 1000000;
+
+}  // namespace
+
+MarkerTrackWriter::MarkerTrackWriter(const std::string& path) : path_(path) {
+  io::createParentDirectory(path);
+  out_.open(path, std::ios::binary | std::ios::trunc);
+  if (!out_) throw InputError(fmt::format("{}: cannot write file", path));
+  out_ << "time,marker,x,y,z\n";
+  out_.flush();
+  if (!out_) throw InputError(fmt::format("{}: cannot write file", path));
+}
+
+void MarkerTrackWriter::write(double time, const Eigen::MatrixX3d& positions) {
+  fmt::memory_buffer buffer;
+  for (Eigen::Index i = 0; i < positions.rows(); ++i) {
+    if (positions.row(i).hasNaN()) continue;
+    fmt::format_to(std::back_inserter(buffer), "{},{},{},{},{}\n", time, i, positions(i, 0),
+                   positions(i, 1), positions(i, 2));
+  }
+  out_.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+  out_.flush();
+  if (!out_) throw InputError(fmt::format("{}: write failed", path_));
+}
+
+MarkerTracks readMarkerTracks(const std::string& path) {
+  const CsvTable table = readCsvTable(path);
+  if (!table.header.empty() && table.header != kColumns)
+    throw InputError(fmt::format("{}: header is '{}'; expected time,marker,x,y,z", path,
+                                 fmt::join(table.header, ",")));
+  if (table.rows.cols() != 5)
+    throw InputError(fmt::format("{}:{}: expected 5 fields (time,marker,x,y,z), got {}", path,
+                                 table.lines.front(), table.rows.cols()));
+  MarkerTracks tracks;
+  std::vector<std::vector<std::pair<long long, Eigen::Index>>> frameRows;  // (marker, row)
+  long long maxMarker = -1;
+  for (Eigen::Index r = 0; r < table.rows.rows(); ++r) {
+    const double time = table.rows(r, 0);
+    const double marker = table.rows(r, 1);
+    if (marker < 0 || marker != std::floor(marker) || marker >= kMaxMarkers)
+      throw InputError(fmt::format("{}:{}: field marker is {}; expected an integer index in [0, "
+                                   "{})",
+                                   path, table.lines[r], marker, kMaxMarkers));
+    if (!tracks.times.empty() && time < tracks.times.back())
+      throw InputError(fmt::format("{}:{}: time {} is earlier than {} on line {}; expected "
+                                   "non-decreasing times",
+                                   path, table.lines[r], time, tracks.times.back(),
+                                   table.lines[r - 1]));
+    if (tracks.times.empty() || time > tracks.times.back()) {
+      tracks.times.push_back(time);
+      frameRows.emplace_back();
+    }
+    const long long m = static_cast<long long>(marker);
+    for (const auto& [other, row] : frameRows.back())
+      if (other == m)
+        throw InputError(fmt::format("{}:{}: marker {} appears twice at time {} (also line {}); "
+                                     "expected one row per marker and frame",
+                                     path, table.lines[r], m, time, table.lines[row]));
+    frameRows.back().emplace_back(m, r);
+    maxMarker = std::max(maxMarker, m);
+  }
+  tracks.numMarkers = static_cast<int>(maxMarker + 1);
+  for (const auto& rows : frameRows) {
+    Eigen::MatrixX3d frame =
+        Eigen::MatrixX3d::Constant(tracks.numMarkers, 3, std::numeric_limits<double>::quiet_NaN());
+    for (const auto& [m, r] : rows) frame.row(m) = table.rows.row(r).tail<3>();
+    tracks.frames.push_back(std::move(frame));
+  }
+  return tracks;
+}
+
+}  // namespace bcassim

@@ -1,0 +1,114 @@
+#include "bcassim/io/PvdSeries.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "bcassim/Error.h"
+#include "bcassim/io/MeshWriter.h"
+
+namespace bcassim {
+namespace {
+
+bool isSafeName(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '_' || c == '-';
+  });
+}
+
+}  // namespace
+
+PvdSeries::PvdSeries(const std::string& directory, const std::string& baseName)
+    : directory_(directory), baseName_(baseName), parts_{""} {
+  if (!isSafeName(baseName))
+    throw std::invalid_argument(fmt::format("PvdSeries: base name '{}' must be letters, digits, "
+                                            "'_' or '-'",
+                                            baseName));
+  std::error_code ec;
+  std::filesystem::create_directories(directory, ec);
+  if (ec || !std::filesystem::is_directory(directory))
+    throw InputError(fmt::format("{}: cannot create output directory{}", directory,
+                                 ec ? fmt::format(" ({})", ec.message()) : ""));
+}
+
+std::string PvdSeries::pvdPath() const {
+  return (std::filesystem::path(directory_) / (baseName_ + ".pvd")).string();
+}
+
+int PvdSeries::addFrame(double time, const TetMesh& mesh, const Eigen::VectorXd& positions,
+                        const FieldSet& fields) {
+  if (!std::isfinite(time))
+    throw std::invalid_argument(fmt::format("PvdSeries::addFrame: time {} is not finite", time));
+  const int frame = numFrames_;
+  const std::string file = fmt::format("{}_{:06d}.vtu", baseName_, frame);
+  writeTetMesh((std::filesystem::path(directory_) / file).string(), mesh, positions, fields);
+  ++numFrames_;
+  times_.push_back(time);
+  entries_.push_back({time, 0, file});
+  rewriteIndex();
+  return frame;
+}
+
+std::string PvdSeries::partFile(const std::string& part, const char* extension, int* partIndex) {
+  if (numFrames_ == 0)
+    throw std::invalid_argument("PvdSeries: addFrame must come before adding a part");
+  if (!isSafeName(part))
+    throw std::invalid_argument(fmt::format("PvdSeries: part name '{}' must be letters, digits, "
+                                            "'_' or '-'",
+                                            part));
+  auto it = std::find(parts_.begin(), parts_.end(), part);
+  if (it == parts_.end()) it = parts_.insert(parts_.end(), part);
+  *partIndex = static_cast<int>(it - parts_.begin());
+  return fmt::format("{}_{}_{:06d}{}", baseName_, part, numFrames_ - 1, extension);
+}
+
+void PvdSeries::addPoints(const std::string& part, const Eigen::MatrixX3d& points,
+                          const FieldSet& fields) {
+  int index = 0;
+  const std::string file = partFile(part, ".vtp", &index);
+  writePointCloud((std::filesystem::path(directory_) / file).string(), points, fields);
+  entries_.push_back({times_.back(), index, file});
+  rewriteIndex();
+}
+
+void PvdSeries::addPolyLines(const std::string& part, const Eigen::MatrixX3d& points,
+                             const Eigen::MatrixX2i& segments, const FieldSet& fields) {
+  int index = 0;
+  const std::string file = partFile(part, ".vtp", &index);
+  writePolyLines((std::filesystem::path(directory_) / file).string(), points, segments, fields);
+  entries_.push_back({times_.back(), index, file});
+  rewriteIndex();
+}
+
+void PvdSeries::rewriteIndex() const {
+  fmt::memory_buffer xml;
+  auto out = std::back_inserter(xml);
+  fmt::format_to(out,
+                 "<?xml version=\"1.0\"?>\n"
+                 "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+                 "  <Collection>\n");
+  for (const Entry& e : entries_)
+    fmt::format_to(out, "    <DataSet timestep=\"{}\" group=\"\" part=\"{}\" file=\"{}\"/>\n",
+                   e.time, e.part, e.file);
+  fmt::format_to(out, "  </Collection>\n</VTKFile>\n");
+
+  // Written beside and renamed over the index, so a reader never sees a half-written file.
+  const std::string path = pvdPath();
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    file.write(xml.data(), static_cast<std::streamsize>(xml.size()));
+    file.close();
+    if (!file) throw InputError(fmt::format("{}: cannot write file", temporary));
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) throw InputError(fmt::format("{}: cannot write file ({})", path, ec.message()));
+}
+
+}  // namespace bcassim

@@ -1,0 +1,54 @@
+// A ParaView time series written incrementally: one .vtu per frame plus a .pvd index rewritten
+// after every frame, so the series stays valid if the run is killed. Times in seconds.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "bcassim/io/FieldSet.h"
+#include "bcassim/mesh/TetMesh.h"
+
+namespace bcassim {
+
+class PvdSeries {
+ public:
+  // Files go to `directory` (created if missing) as <baseName>.pvd and <baseName>_000042.vtu.
+  // Throws InputError when the directory cannot be created.
+  PvdSeries(const std::string& directory, const std::string& baseName);
+
+  // Writes frame <baseName>_<index>.vtu with the mesh at `positions` (3N node-major, m; empty
+  // means rest positions) and `fields`, then rewrites the .pvd. Returns the frame index.
+  int addFrame(double time, const TetMesh& mesh, const Eigen::VectorXd& positions,
+               const FieldSet& fields = FieldSet());
+
+  // Adds to the latest frame another part named `part` (letters, digits, '_', '-'), written as
+  // <baseName>_<part>_<index>.vtp: a point cloud (e.g. markers) or line segments (e.g. springs).
+  // ParaView shows each part as a block of the same time step.
+  void addPoints(const std::string& part, const Eigen::MatrixX3d& points,
+                 const FieldSet& fields = FieldSet());
+  void addPolyLines(const std::string& part, const Eigen::MatrixX3d& points,
+                    const Eigen::MatrixX2i& segments, const FieldSet& fields = FieldSet());
+
+  int numFrames() const { return numFrames_; }
+  std::string pvdPath() const;
+
+ private:
+  struct Entry {
+    double time;
+    int part;
+    std::string file;  // relative to the directory
+  };
+
+  std::string partFile(const std::string& part, const char* extension, int* partIndex);
+  void rewriteIndex() const;
+
+  std::string directory_;
+  std::string baseName_;
+  std::vector<std::string> parts_;  // part names; index 0 is the mesh
+  std::vector<Entry> entries_;
+  std::vector<double> times_;
+  int numFrames_ = 0;
+};
+
+}  // namespace bcassim

@@ -1,0 +1,145 @@
+#include "bcassim/io/SurfaceReader.h"
+
+#include <fmt/format.h>
+#include <vtkCellArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataReader.h>
+#include <vtkPolyDataWriter.h>
+#include <vtkSTLReader.h>
+#include <vtkSTLWriter.h>
+#include <vtkTriangleFilter.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <vector>
+
+#include "bcassim/Error.h"
+#include "bcassim/io/Files.h"
+#include "bcassim/io/ObjFormat.h"
+#include "bcassim/io/TextLines.h"
+#include "bcassim/io/VtkSupport.h"
+
+namespace bcassim {
+namespace {
+
+TriMesh trianglesOf(vtkPolyData* input, const std::string& path) {
+  vtkNew<vtkTriangleFilter> triangulate;
+  triangulate->SetInputData(input);
+  triangulate->PassVertsOff();
+  triangulate->PassLinesOff();
+  triangulate->Update();
+  vtkPolyData* out = triangulate->GetOutput();
+  TriMesh mesh;
+  mesh.V = io::pointsOf(input);
+  std::vector<int> faces;
+  vtkCellArray* polys = out->GetPolys();
+  vtkNew<vtkIdList> ids;
+  polys->InitTraversal();
+  while (polys->GetNextCell(ids))
+    if (ids->GetNumberOfIds() == 3)
+      for (int k = 0; k < 3; ++k) faces.push_back(static_cast<int>(ids->GetId(k)));
+  if (faces.empty())
+    throw InputError(fmt::format("{}: no triangles or polygons among {} cells; expected a "
+                                 "surface",
+                                 path, input->GetNumberOfCells()));
+  mesh.F = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+      faces.data(), static_cast<Eigen::Index>(faces.size() / 3), 3);
+  io::requireFinitePoints(mesh.V, path);
+  return mesh;
+}
+
+template <class Reader>
+TriMesh readVtkSurface(const std::string& path, const char* what, bool legacy = false) {
+  io::VtkErrorCapture capture;
+  vtkNew<Reader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  const std::string failure = fmt::format("cannot read {} file", what);
+  legacy ? io::throwIfLegacyVtkError(capture, path, failure)
+         : io::throwIfVtkError(capture, path, failure);
+  vtkPolyData* data = reader->GetOutput();
+  if (!data || data->GetNumberOfPoints() == 0)
+    throw InputError(fmt::format("{}: no points read; expected a {} surface", path, what));
+  return trianglesOf(data, path);
+}
+
+TriMesh readLegacySurface(const std::string& path) {
+  {
+    io::VtkErrorCapture capture;
+    vtkNew<vtkPolyDataReader> probe;
+    probe->SetFileName(path.c_str());
+    if (!probe->IsFilePolyData())
+      throw InputError(fmt::format("{}: not a legacy VTK polydata file; expected 'DATASET "
+                                   "POLYDATA' with triangles",
+                                   path));
+  }
+  return readVtkSurface<vtkPolyDataReader>(path, "legacy VTK", true);
+}
+
+vtkSmartPointer<vtkPolyData> toPolyData(const TriMesh& mesh) {
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->SetPoints(io::toVtkPoints(mesh.V));
+  vtkNew<vtkCellArray> polys;
+  for (Eigen::Index t = 0; t < mesh.F.rows(); ++t) {
+    const vtkIdType ids[3] = {mesh.F(t, 0), mesh.F(t, 1), mesh.F(t, 2)};
+    polys->InsertNextCell(3, ids);
+  }
+  data->SetPolys(polys);
+  return data;
+}
+
+template <class Writer>
+void writeVtkSurface(const std::string& path, const TriMesh& mesh, bool binary) {
+  io::createParentDirectory(path);
+  const auto data = toPolyData(mesh);
+  io::VtkErrorCapture capture;
+  vtkNew<Writer> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputData(data);
+  if (binary) writer->SetFileTypeToBinary();
+  const int ok = writer->Write();
+  io::throwIfVtkError(capture, path, "cannot write file");
+  if (!ok) throw InputError(fmt::format("{}: cannot write file", path));
+}
+
+}  // namespace
+
+TriMesh readSurface(const std::string& path) {
+  const std::string ext = io::lowerExtension(path);
+  if (ext != ".stl" && ext != ".obj" && ext != ".vtk" && ext != ".vtp")
+    throw InputError(fmt::format("{}: unsupported surface format '{}'; expected .stl, .obj, .vtk "
+                                 "or .vtp",
+                                 path, ext));
+  io::requireReadableFile(path);
+  if (ext == ".obj") return readObj(path);
+  if (ext == ".stl") return readVtkSurface<vtkSTLReader>(path, "STL");
+  if (ext == ".vtp") return readVtkSurface<vtkXMLPolyDataReader>(path, "VTK XML polydata");
+  return readLegacySurface(path);
+}
+
+void writeSurface(const std::string& path, const TriMesh& mesh) {
+  const std::string ext = io::lowerExtension(path);
+  if (ext == ".obj") return writeObj(path, mesh);
+  if (ext == ".stl") return writeVtkSurface<vtkSTLWriter>(path, mesh, true);
+  if (ext == ".vtk") return writeVtkSurface<vtkPolyDataWriter>(path, mesh, true);
+  if (ext == ".vtp") {
+    io::createParentDirectory(path);
+    const auto data = toPolyData(mesh);
+    io::VtkErrorCapture capture;
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->SetFileName(path.c_str());
+    writer->SetInputData(data);
+    writer->SetDataModeToBinary();
+    const int ok = writer->Write();
+    io::throwIfVtkError(capture, path, "cannot write file");
+    if (!ok) throw InputError(fmt::format("{}: cannot write file", path));
+    return;
+  }
+  throw InputError(fmt::format("{}: unsupported surface output format '{}'; expected .stl, .obj, "
+                               ".vtk or .vtp",
+                               path, ext));
+}
+
+}  // namespace bcassim
