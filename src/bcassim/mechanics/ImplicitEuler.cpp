@@ -1,0 +1,107 @@
+#include "bcassim/mechanics/ImplicitEuler.h"
+
+#include <chrono>
+#include <fmt/format.h>
+
+#include "bcassim/Error.h"
+
+namespace bcassim {
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+}  // namespace
+
+ImplicitEuler::ImplicitEuler(const MechanicalModel& model, std::unique_ptr<LinearSolver> solver,
+                             ImplicitEulerOptions options)
+    : solver_(std::move(solver)), options_(options), A_(model.pattern->emptyMatrix()) {
+  if (!(options_.dt > 0)) throw InputError("implicit Euler: dt must be positive (s)");
+  solver_->analyzePattern(A_);
+  rest_ = model.restPositions();
+}
+
+void ImplicitEuler::formSystemMatrix(const MechanicalModel& model) {
+  const double h = options_.dt;
+  A_.coeffs() *= h * model.rayleighStiffness + h * h;
+  model.mass.addTo(*model.pattern, 1.0 + h * model.rayleighMass, A_);
+}
+
+void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
+  const auto start = Clock::now();
+  timings_ = {};
+  const double h = options_.dt;
+  const double tNext = s.t + h;
+  const DirichletConditions& bc = model.dirichlet;
+
+  // Eq. 2.16, linearised at the current state.
+  auto t0 = Clock::now();
+  model.internalForcesAndStiffness(s.t, s.x, fint_, A_);
+  model.externalForces(tNext, fext_);
+  Kv_.noalias() = A_ * s.v;
+  model.mass.multiply(s.v, Mv_);
+  rhs_ = h * (fext_ - fint_ - model.rayleighMass * Mv_ - (model.rayleighStiffness + h) * Kv_);
+  formSystemMatrix(model);
+  // Constrained dofs reach their prescribed positions at t + dt: x + dt (v + dv) = target.
+  Eigen::VectorXd knownDv;
+  if (!bc.empty()) {
+    const Eigen::VectorXd target = bc.targetPositions(rest_, tNext);
+    knownDv.resize(target.size());
+    for (Eigen::Index k = 0; k < target.size(); ++k) {
+      const int d = bc.constrainedDofs()[k];
+      knownDv(k) = (target(k) - s.x(d)) / h - s.v(d);
+    }
+    bc.eliminate(A_, rhs_, knownDv);
+  }
+  timings_.assembly += seconds(t0, Clock::now());
+
+  t0 = Clock::now();
+  solver_->setMatrix(A_);
+  dv_ = Eigen::VectorXd::Zero(rhs_.size());
+  timings_.lastSolve = solver_->solve(rhs_, dv_);
+  ++timings_.linearSolves;
+  timings_.solve += seconds(t0, Clock::now());
+
+  const Eigen::VectorXd x0 = s.x, v0 = s.v;
+  s.v = v0 + dv_;
+  s.x = x0 + h * s.v;
+
+  // Optional Newton iterations on R(v) = M (v - v0) + h (f_int(x0 + h v) + D v - f_ext).
+  for (int it = 0; it < options_.newtonIterations; ++it) {
+    t0 = Clock::now();
+    model.internalForcesAndStiffness(tNext, s.x, fint_, A_);
+    Kv_.noalias() = A_ * s.v;
+    model.mass.multiply(s.v - v0, Mv_);
+    rhs_ = -(Mv_ + h * (fint_ - fext_ + model.rayleighStiffness * Kv_));
+    Eigen::VectorXd Mv1;
+    model.mass.multiply(s.v, Mv1);
+    rhs_ -= h * model.rayleighMass * Mv1;
+    if (!bc.empty()) {
+      bc.zeroConstrained(rhs_);
+      formSystemMatrix(model);
+      bc.eliminate(A_, rhs_, Eigen::VectorXd::Zero(bc.constrainedDofs().size()));
+    } else {
+      formSystemMatrix(model);
+    }
+    const double residual = rhs_.norm();
+    const double reference = std::max(h * fext_.norm(), Mv1.norm());
+    timings_.assembly += seconds(t0, Clock::now());
+    if (residual <= options_.newtonTolerance * std::max(reference, 1e-300)) break;
+    t0 = Clock::now();
+    solver_->setMatrix(A_);
+    dv_.setZero();
+    timings_.lastSolve = solver_->solve(rhs_, dv_);
+    ++timings_.linearSolves;
+    timings_.solve += seconds(t0, Clock::now());
+    s.v += dv_;
+    s.x = x0 + h * s.v;
+  }
+  s.t = tNext;
+  if (!s.x.allFinite() || !s.v.allFinite())
+    throw NumericalError(fmt::format("implicit Euler: non-finite state at t = {:.6g} s (time step "
+                                     "too large, or an element inverted: {} tets)",
+                                     s.t, model.elasticity.lastInvertedCount()));
+  timings_.total = seconds(start, Clock::now());
+}
+
+}  // namespace bcassim

@@ -1,0 +1,76 @@
+#include "bcassim/mechanics/Loads.h"
+
+#include <algorithm>
+
+#include "bcassim/Error.h"
+
+namespace bcassim {
+
+ControlPointSet::ControlPointSet(std::vector<MappedPoint> points, Eigen::MatrixX3d restPositions,
+                                 std::vector<double> times, Eigen::MatrixX3d displacements,
+                                 double stiffness)
+    : points_(std::move(points)),
+      rest_(std::move(restPositions)),
+      times_(std::move(times)),
+      displacements_(std::move(displacements)),
+      stiffness_(stiffness) {
+  if (times_.empty() || static_cast<Eigen::Index>(times_.size()) != displacements_.rows())
+    throw InputError("control points: trajectory needs at least one (time, displacement) row");
+  if (!std::is_sorted(times_.begin(), times_.end()))
+    throw InputError("control points: trajectory times must be increasing");
+}
+
+Vec3 ControlPointSet::displacementAt(double t) const {
+  if (t <= times_.front()) return displacements_.row(0);
+  if (t >= times_.back()) return displacements_.row(displacements_.rows() - 1);
+  const auto it = std::upper_bound(times_.begin(), times_.end(), t);
+  const Eigen::Index i = it - times_.begin();
+  const double w = (t - times_[i - 1]) / (times_[i] - times_[i - 1]);
+  return (1 - w) * displacements_.row(i - 1).transpose() + w * displacements_.row(i).transpose();
+}
+
+namespace {
+Vec3 mappedPosition(const TetMesh& mesh, const MappedPoint& p, const Eigen::VectorXd& x) {
+  Vec3 r = Vec3::Zero();
+  for (int a = 0; a < 4; ++a) r += p.weights(a) * x.segment<3>(3 * mesh.T(p.tet, a));
+  return r;
+}
+}  // namespace
+
+double ControlPointSet::energy(const TetMesh& mesh, const Eigen::VectorXd& x, double t) const {
+  const Vec3 d = displacementAt(t);
+  double W = 0;
+  for (size_t i = 0; i < points_.size(); ++i) {
+    const Vec3 gap = mappedPosition(mesh, points_[i], x) - rest_.row(i).transpose() - d;
+    W += 0.5 * stiffness_ * gap.squaredNorm();
+  }
+  return W;
+}
+
+void ControlPointSet::addInternalForces(const TetMesh& mesh, const Eigen::VectorXd& x, double t,
+                                        Eigen::VectorXd& f) const {
+  const Vec3 d = displacementAt(t);
+  for (size_t i = 0; i < points_.size(); ++i) {
+    const MappedPoint& p = points_[i];
+    const Vec3 force =
+        stiffness_ * (mappedPosition(mesh, p, x) - rest_.row(i).transpose() - d);
+    for (int a = 0; a < 4; ++a) f.segment<3>(3 * mesh.T(p.tet, a)) += p.weights(a) * force;
+  }
+}
+
+void ControlPointSet::addForcesAndStiffness(const TetMesh& mesh, const Eigen::VectorXd& x,
+                                            double t, const AssemblyPattern& pattern,
+                                            double scale, Eigen::VectorXd& f,
+                                            SparseMatrix& K) const {
+  addInternalForces(mesh, x, t, f);
+  for (const MappedPoint& p : points_) {
+    Mat12 block = Mat12::Zero();
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        block.block<3, 3>(3 * a, 3 * b).diagonal().setConstant(scale * stiffness_ * p.weights(a) *
+                                                               p.weights(b));
+    scatterTetBlock(pattern, p.tet, block, K);
+  }
+}
+
+}  // namespace bcassim

@@ -1,0 +1,50 @@
+// External loads: forces on node sets modulated in time, and "control points" (barycentric points
+// pulled by stiff penalty springs along a prescribed trajectory, as the thesis drives its liver).
+#pragma once
+#include <vector>
+
+#include "bcassim/Types.h"
+#include "bcassim/mechanics/AssemblyPattern.h"
+#include "bcassim/mechanics/TimeProfile.h"
+#include "bcassim/mesh/BarycentricMap.h"
+#include "bcassim/mesh/TetMesh.h"
+
+namespace bcassim {
+
+// force(t) = forcePerNode * profile(t) on every node of `nodes` (N per node).
+struct NodalLoad {
+  std::vector<int> nodes;
+  Vec3 forcePerNode = Vec3::Zero();
+  TimeProfile profile;
+
+  void addTo(double t, Eigen::VectorXd& f) const {
+    const Vec3 force = profile.value(t) * forcePerNode;
+    for (int n : nodes) f.segment<3>(3 * n) += force;
+  }
+};
+
+// Points mapped into the mesh, each pulled towards rest position + d(t) by a spring of stiffness
+// `stiffness` (N/m); d(t) is linearly interpolated from (times, displacements), held at the ends.
+class ControlPointSet {
+ public:
+  ControlPointSet(std::vector<MappedPoint> points, Eigen::MatrixX3d restPositions,
+                  std::vector<double> times, Eigen::MatrixX3d displacements, double stiffness);
+
+  Vec3 displacementAt(double t) const;
+  double energy(const TetMesh& mesh, const Eigen::VectorXd& x, double t) const;
+  void addInternalForces(const TetMesh& mesh, const Eigen::VectorXd& x, double t,
+                         Eigen::VectorXd& f) const;
+  void addForcesAndStiffness(const TetMesh& mesh, const Eigen::VectorXd& x, double t,
+                             const AssemblyPattern& pattern, double scale, Eigen::VectorXd& f,
+                             SparseMatrix& K) const;
+  Eigen::Index size() const { return static_cast<Eigen::Index>(points_.size()); }
+
+ private:
+  std::vector<MappedPoint> points_;
+  Eigen::MatrixX3d rest_;          // #points by 3, m
+  std::vector<double> times_;      // s, increasing
+  Eigen::MatrixX3d displacements_;  // #times by 3, m
+  double stiffness_;               // N/m
+};
+
+}  // namespace bcassim
