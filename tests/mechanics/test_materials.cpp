@@ -314,6 +314,43 @@ TEST(CorotationalMaterial, InvertedElementGetsRotationNotReflection) {
   EXPECT_TRUE(m.tangent(Mat3::Zero()).allFinite());
 }
 
+TEST(RotationVariantSvd, ReconstructsWithRotationsForEveryKindOfF) {
+  std::mt19937 rng(3);
+  std::vector<std::pair<Vec3, bool>> spectra = {
+      {Vec3(1, 1, 1), false},     {Vec3(2, 1, 0.5), false},     {Vec3(1.5, 1.5, 0.3), false},
+      {Vec3(2, 0.4, 0.4), false}, {Vec3(1, 1e-3, 1e-6), false}, {Vec3(1.2, 0.9, -0.3), false},
+      {Vec3(1, 1, -1), false},    {Vec3(1, 0.5, 0), false},     {Vec3(1, 0, 0), false},
+      {Vec3(0, 0, 0), false},     {Vec3(3, 1, 1), true}};
+  std::normal_distribution<double> n;
+  for (int k = 0; k < 20; ++k) spectra.push_back({Vec3(n(rng), n(rng), n(rng)), true});
+  for (const auto& [spectrum, dense] : spectra) {
+    Mat3 F;
+    if (dense) {
+      F = Mat3::Identity() + 0.5 * Mat3::NullaryExpr([&] { return n(rng); });
+    } else {
+      F = randomRotation(rng) * spectrum.asDiagonal() * randomRotation(rng).transpose();
+    }
+    SCOPED_TRACE(::testing::Message() << "F =\n" << F);
+    const auto r = detail::rotationVariantSvd(F);
+    EXPECT_LE((r.U * r.sigma.asDiagonal() * r.V.transpose() - F).norm(), 1e-14 * (1 + F.norm()));
+    EXPECT_LE((r.U.transpose() * r.U - Mat3::Identity()).norm(), 1e-14);
+    EXPECT_LE((r.V.transpose() * r.V - Mat3::Identity()).norm(), 1e-14);
+    EXPECT_NEAR(r.U.determinant(), 1.0, 1e-14);
+    EXPECT_NEAR(r.V.determinant(), 1.0, 1e-14);
+    EXPECT_GE(r.sigma(0), r.sigma(1) * (1 - 1e-14));
+    EXPECT_GE(r.sigma(1), std::abs(r.sigma(2)) * (1 - 1e-14));
+    EXPECT_GE(r.sigma(2) * F.determinant(), 0.0);
+    if (!dense) {
+      // Small singular values keep their relative accuracy (graded case 1, 1e-3, 1e-6).
+      Vec3 expected = spectrum.cwiseAbs();
+      std::sort(expected.data(), expected.data() + 3, std::greater<>());
+      if (spectrum.prod() < 0) expected(2) = -expected(2);
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(r.sigma(i), expected(i), 1e-13 * std::abs(expected(i)) + 1e-15);
+    }
+  }
+}
+
 TEST(MaterialDomain, AdmissibleFlagsInvertedElementsForLogAndPowerLaws) {
   const Mat3 inverted = Vec3(1.0, 1.0, -0.5).asDiagonal();
   EXPECT_FALSE(NeoHookeanMaterial::admissible(inverted));
