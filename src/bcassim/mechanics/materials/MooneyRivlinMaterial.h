@@ -58,8 +58,8 @@ struct MooneyRivlinMaterial {
     return C;
   }
 
-  // With H = F^-T, G = I1 F - F C (dI2/dF = 2G), B = F F^T and X(A) the dF^T-sandwich term of
-  // TangentTerms.h, differentiating the stress below term by term.
+  // The stress below differentiated term by term, with H = F^-T, G = I1 F - F C (dI2/dF = 2G):
+  // dH = -H dF^T H and the F dF^T F part of dG are the addTransposedProduct terms.
   void pk1AndTangent(const Mat3& F, Mat3& P, Mat9& C) const {
     const Kinematics k(F);
     P = stress(F, k);

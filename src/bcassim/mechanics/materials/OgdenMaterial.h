@@ -14,13 +14,13 @@ namespace bcassim {
 // stretches stay accurate). The tangent is exact for coincident stretches: the divided
 // differences it needs are evaluated in a form that tends to the derivative without cancelling.
 // Only defined for J = det F > 0: elsewhere the fractional powers make the outputs non-finite.
-// Note: FEBio writes the same term as c/m^2 (...), so its c equals 2 mu here.
+// FEBio's Ogden writes the term as c/m^2 (...): a FEBio c is mu = c/2 here, m is alpha.
 struct OgdenMaterial {
   double mu;     // shear modulus, Pa
   double alpha;  // exponent, -
   double kappa;  // bulk modulus, Pa
 
-  // Human liver parameters used for the thesis' ground truth (sec. 5, from its ref. [127]).
+  // Human liver parameters of the thesis' ground truth (sec. 5, its ref. [127]), read as mu.
   static constexpr double kLiverMu = 16.47e3;
   static constexpr double kLiverAlpha = 0.88;
   static constexpr double kLiverNu = 0.49;
