@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "bcassim/Error.h"
+#include "bcassim/mechanics/ElementKernels.h"
 
 namespace bcassim {
 namespace {
@@ -13,15 +14,6 @@ inline Mat3 deformationGradient(const Eigen::VectorXd& x, const Eigen::Vector4i&
   Mat3 F = Mat3::Zero();
   for (int a = 0; a < 4; ++a) F.noalias() += x.segment<3>(3 * tet(a)) * gradN.row(a);
   return F;
-}
-
-// dF/dx of a tet as a 9x12 matrix: vec(F) (column-major) by local dofs (3a+i).
-inline Eigen::Matrix<double, 9, 12> gradientOperator(const Eigen::Matrix<double, 4, 3>& gradN) {
-  Eigen::Matrix<double, 9, 12> B = Eigen::Matrix<double, 9, 12>::Zero();
-  for (int a = 0; a < 4; ++a)
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) B(i + 3 * k, 3 * a + i) = gradN(a, k);
-  return B;
 }
 
 }  // namespace
@@ -97,13 +89,11 @@ void TetElasticity::addForcesAndStiffness(const Eigen::VectorXd& x, const Assemb
       const auto& G = gradN_[t];
       const Mat3 F = deformationGradient(x, tet, G);
       if (F.determinant() <= 0) ++inverted;
-      const double V = volume_[t];
-      const Eigen::Matrix<double, 3, 4> H = V * material.pk1(F) * G.transpose();
+      ElementForces H;
+      Mat12 Ke;
+      elementForcesAndStiffness(material, F, G, volume_[t], H, Ke);
       for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet(a)) += H.col(a);
-
-      const Eigen::Matrix<double, 9, 12> B = gradientOperator(G);
-      const Eigen::Matrix<double, 9, 12> CB = (scale * V) * (material.tangent(F) * B);
-      const Mat12 Ke = B.transpose() * CB;
+      if (scale != 1.0) Ke *= scale;
       const int* slot = pattern.tetSlots(t);
       for (int r = 0; r < 12; ++r)
         for (int c = 0; c < 12; ++c) values[slot[12 * r + c]] += Ke(r, c);
