@@ -66,8 +66,9 @@ TEST(MarkerTracks, TimesMustNotDecrease) {
   TempDir dir;
   const std::string path = writeText(dir.file("tracks.csv"),
                                      "time,marker,x,y,z\n0.1,0,1,2,3\n0.2,0,1,2,3\n0.15,0,1,2,3\n");
-  EXPECT_INPUT_ERROR(path + ":4: time 0.15 is earlier than 0.2 on line 3; expected "
-                            "non-decreasing times",
+  EXPECT_INPUT_ERROR(path +
+                         ":4: time 0.15 is earlier than 0.2 on line 3; expected "
+                         "non-decreasing times",
                      readMarkerTracks(path));
 }
 
@@ -75,8 +76,9 @@ TEST(MarkerTracks, MarkerTwiceInAFrame) {
   TempDir dir;
   const std::string path =
       writeText(dir.file("tracks.csv"), "time,marker,x,y,z\n0,0,1,2,3\n0,0,1,2,3\n");
-  EXPECT_INPUT_ERROR(path + ":3: marker 0 appears twice at time 0 (also line 2); expected one "
-                            "row per marker and frame",
+  EXPECT_INPUT_ERROR(path +
+                         ":3: marker 0 appears twice at time 0 (also line 2); expected one "
+                         "row per marker and frame",
                      readMarkerTracks(path));
 }
 

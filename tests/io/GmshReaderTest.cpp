@@ -86,8 +86,10 @@ TEST(GmshReader, ReadsVersion1) {
 TEST(GmshReader, AcceptsWindowsLineEndingsAndBlankLines) {
   std::string text;
   for (char c : cubeV2()) {
-    if (c == '\n') text += "\r\n";
-    else text += c;
+    if (c == '\n')
+      text += "\r\n";
+    else
+      text += c;
   }
   text.insert(text.find("$Nodes"), "\r\n");
   TempDir dir;
@@ -199,15 +201,15 @@ TEST(GmshReader, BinaryIsRejected) {
   TempDir dir;
   const std::string path =
       writeText(dir.file("bin.msh"), "$MeshFormat\n4.1 1 8\n\x01\x00\x00\x00\n$EndMeshFormat\n");
-  EXPECT_INPUT_ERROR(path + ":2: binary Gmsh files are not supported; expected ASCII (file-type "
-                            "0), e.g. saved with gmsh -format msh22 or msh41 without -bin",
+  EXPECT_INPUT_ERROR(path +
+                         ":2: binary Gmsh files are not supported; expected ASCII (file-type "
+                         "0), e.g. saved with gmsh -format msh22 or msh41 without -bin",
                      readTetMesh(path));
 }
 
 TEST(GmshReader, UnsupportedVersion) {
   TempDir dir;
-  const std::string path =
-      writeText(dir.file("v4.msh"), "$MeshFormat\n4 0 8\n$EndMeshFormat\n");
+  const std::string path = writeText(dir.file("v4.msh"), "$MeshFormat\n4 0 8\n$EndMeshFormat\n");
   EXPECT_INPUT_ERROR(path + ":2: Gmsh format version 4 is not supported; expected 2.2 or 4.1",
                      readTetMesh(path));
 }
@@ -227,8 +229,9 @@ TEST(GmshReader, InvertedTet) {
   std::string text = cubeV2();
   text.replace(text.find("11 15 17 14"), 11, "11 17 15 14");
   const std::string path = writeText(dir.file("inv.msh"), text);
-  EXPECT_INPUT_ERROR(path + ": tet 2 is inverted (signed volume -0.167 m^3); expected the same "
-                            "orientation as the other tets",
+  EXPECT_INPUT_ERROR(path +
+                         ": tet 2 is inverted (signed volume -0.167 m^3); expected the same "
+                         "orientation as the other tets",
                      readTetMesh(path));
 }
 

@@ -50,7 +50,8 @@ inline std::string readText(const std::string& path) {
 inline TetMesh cubeMesh() {
   TetMesh mesh;
   mesh.V.resize(8, 3);
-  for (int i = 0; i < 8; ++i) mesh.V.row(i) << double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1);
+  for (int i = 0; i < 8; ++i)
+    mesh.V.row(i) << double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1);
   mesh.T.resize(5, 4);
   mesh.T << 0, 1, 2, 4,  //
       1, 3, 2, 7,        //
@@ -84,11 +85,11 @@ inline std::string inputErrorOf(const std::function<void()>& f) {
 }
 
 // Asserts that `f` throws an InputError with exactly `expected`, a single line.
-#define EXPECT_INPUT_ERROR(expected, statement)                         \
-  do {                                                                  \
+#define EXPECT_INPUT_ERROR(expected, statement)                                     \
+  do {                                                                              \
     const std::string message_ = ::bcassim::test::inputErrorOf([&] { statement; }); \
-    EXPECT_EQ(message_, expected);                                      \
-    EXPECT_EQ(message_.find('\n'), std::string::npos) << message_;      \
+    EXPECT_EQ(message_, expected);                                                  \
+    EXPECT_EQ(message_.find('\n'), std::string::npos) << message_;                  \
   } while (false)
 
 // The shared data directory: $BCASSIM_DATA (relative to the source tree when relative), else

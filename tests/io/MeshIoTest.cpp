@@ -104,7 +104,9 @@ TEST(MeshReader, UnknownExtension) {
 // A legacy file as other tools write it: ASCII, float points, float region field.
 std::string legacyCube(const std::string& y2 = "1") {
   return "# vtk DataFile Version 2.0\ncube\nASCII\nDATASET UNSTRUCTURED_GRID\n"
-         "POINTS 8 float\n0 0 0\n1 0 0\n0 " + y2 + " 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
+         "POINTS 8 float\n0 0 0\n1 0 0\n0 " +
+         y2 +
+         " 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
          "CELLS 6 28\n2 0 1\n4 0 1 2 4\n4 1 3 2 7\n4 1 5 7 4\n4 2 7 6 4\n4 1 2 4 7\n"
          "CELL_TYPES 6\n3\n10\n10\n10\n10\n10\n"
          "CELL_DATA 6\nSCALARS dataset float 1\nLOOKUP_TABLE default\n9 1 1 1 1 2\n";
@@ -132,13 +134,25 @@ TEST(MeshReader, NanCoordinateInLegacyVtk) {
   EXPECT_INPUT_ERROR(path + ":8: value 'nan' is not a finite number", readTetMesh(path));
 }
 
+TEST(MeshReader, TruncatedLegacyVtk) {
+  TempDir dir;
+  std::string text = legacyCube();
+  text.erase(text.find("0 1 1\n"));
+  const std::string path = writeText(dir.file("cut.vtk"), text);
+  EXPECT_INPUT_ERROR(path +
+                         ": cannot read legacy VTK file: Error reading ascii data. Possible "
+                         "mismatch of datasize with declaration.",
+                     readTetMesh(path));
+}
+
 TEST(MeshReader, LegacyFileThatIsNotAGrid) {
   TempDir dir;
   const std::string path =
       writeText(dir.file("poly.vtk"),
                 "# vtk DataFile Version 2.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 1 float\n0 0 0\n");
-  EXPECT_INPUT_ERROR(path + ": not a legacy VTK unstructured grid; expected 'DATASET "
-                            "UNSTRUCTURED_GRID' with tetrahedra",
+  EXPECT_INPUT_ERROR(path +
+                         ": not a legacy VTK unstructured grid; expected 'DATASET "
+                         "UNSTRUCTURED_GRID' with tetrahedra",
                      readTetMesh(path));
 }
 
@@ -156,8 +170,9 @@ TEST(MeshReader, InvertedTetInVtu) {
   std::swap(mesh.T(3, 0), mesh.T(3, 1));
   const std::string path = dir.file("inv.vtu");
   writeTetMesh(path, mesh);
-  EXPECT_INPUT_ERROR(path + ": tet 3 is inverted (signed volume -0.167 m^3); expected the same "
-                            "orientation as the other tets",
+  EXPECT_INPUT_ERROR(path +
+                         ": tet 3 is inverted (signed volume -0.167 m^3); expected the same "
+                         "orientation as the other tets",
                      readTetMesh(path));
 }
 

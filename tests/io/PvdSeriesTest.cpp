@@ -1,7 +1,6 @@
 // PVD time series: files written per frame and an index that is complete after every frame.
-#include <gtest/gtest.h>
-
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include "bcassim/io/MeshReader.h"
 #include "bcassim/io/PvdSeries.h"
@@ -31,8 +30,8 @@ TEST(PvdSeries, IndexListsEveryFrameAfterEachAddFrame) {
     EXPECT_NE(pvd.find("</VTKFile>"), std::string::npos);
     for (int g = 0; g <= f; ++g) {
       const std::string file = fmt::format("liver_{:06d}.vtu", g);
-      EXPECT_NE(pvd.find(fmt::format("timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"",
-                                     0.01 * g, file)),
+      EXPECT_NE(pvd.find(fmt::format("timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"", 0.01 * g,
+                                     file)),
                 std::string::npos)
           << pvd;
       EXPECT_TRUE(std::filesystem::is_regular_file(out + "/" + file));

@@ -13,8 +13,8 @@ namespace {
 
 using test::sharedFile;
 
-#define SHARED_FILE_OR_SKIP(var, relative)                                   \
-  const std::string var = sharedFile(relative);                             \
+#define SHARED_FILE_OR_SKIP(var, relative)      \
+  const std::string var = sharedFile(relative); \
   if (var.empty()) GTEST_SKIP() << "shared data file " << relative << " not found"
 
 TEST(SharedData, OptimusCylinder) {

@@ -59,32 +59,31 @@ TEST(ObjReader, FaceFormsPolygonsAndNegativeIndices) {
 
 TEST(ObjReader, FaceIndexBeyondVertices) {
   TempDir dir;
-  const std::string path = writeText(dir.file("bad.obj"),
-                                     "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 9\n");
+  const std::string path =
+      writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 9\n");
   EXPECT_INPUT_ERROR(path + ":6: face refers to vertex 9, but the file defines 4 vertices",
                      readSurface(path));
 }
 
 TEST(ObjReader, FaceIndexZero) {
   TempDir dir;
-  const std::string path =
-      writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
+  const std::string path = writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
   EXPECT_INPUT_ERROR(path + ":4: face vertex index 0 is invalid; OBJ indices start at 1",
                      readSurface(path));
 }
 
 TEST(ObjReader, NonNumericFaceIndex) {
   TempDir dir;
-  const std::string path =
-      writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 two 3\n");
+  const std::string path = writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 two 3\n");
   EXPECT_INPUT_ERROR(path + ":4: expected a vertex index in face vertex 'two'", readSurface(path));
 }
 
 TEST(ObjReader, RelativeIndexBeforeFirstVertex) {
   TempDir dir;
   const std::string path = writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nf -1 -2 -3\n");
-  EXPECT_INPUT_ERROR(path + ":3: relative face vertex index -3 goes before the first vertex (2 "
-                            "defined so far)",
+  EXPECT_INPUT_ERROR(path +
+                         ":3: relative face vertex index -3 goes before the first vertex (2 "
+                         "defined so far)",
                      readSurface(path));
 }
 
@@ -108,11 +107,11 @@ TEST(PointReader, VtpPointCloudAndLegacyVertices) {
   points << 0.02, 0, 0.08, 1.0 / 3.0, 0.5, -2, 7, 8, 9;
   writePointCloud(dir.file("obs.vtp"), points);
   EXPECT_EQ(readPoints(dir.file("obs.vtp")), points);
-  const std::string legacy = writeText(
-      dir.file("obs.vtk"),
-      "# vtk DataFile Version 4.0\nvtk output\nASCII\nDATASET UNSTRUCTURED_GRID\n"
-      "POINTS 3 float\n0.5 0 0.25\t1 2 3\n4 5 6\nCELLS 3 6\n1 0\n1 1\n1 2\n"
-      "CELL_TYPES 3\n1\n1\n1\n");
+  const std::string legacy =
+      writeText(dir.file("obs.vtk"),
+                "# vtk DataFile Version 4.0\nvtk output\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                "POINTS 3 float\n0.5 0 0.25\t1 2 3\n4 5 6\nCELLS 3 6\n1 0\n1 1\n1 2\n"
+                "CELL_TYPES 3\n1\n1\n1\n");
   Eigen::MatrixX3d expected(3, 3);
   expected << 0.5, 0, 0.25, 1, 2, 3, 4, 5, 6;
   EXPECT_EQ(readPoints(legacy), expected);

@@ -38,12 +38,11 @@ CsvTable readCsvTable(const std::string& path) {
   bool first = true;
   auto fieldName = [&](size_t k) {
     return k < table.header.size() && !table.header[k].empty() ? table.header[k]
-                                                                : fmt::format("{}", k + 1);
+                                                               : fmt::format("{}", k + 1);
   };
   auto columnList = [&] {
     std::string list;
-    for (size_t k = 0; k < table.header.size(); ++k)
-      list += (k ? "," : "") + table.header[k];
+    for (size_t k = 0; k < table.header.size(); ++k) list += (k ? "," : "") + table.header[k];
     return list;
   };
   while (in.next()) {
@@ -66,8 +65,8 @@ CsvTable readCsvTable(const std::string& path) {
     for (size_t k = 0; k < columns; ++k) {
       double v = 0;
       if (!io::parseDouble(fields[k], v))
-        in.fail(fmt::format("field {} is not a number ('{}')", fieldName(k),
-                            io::excerpt(fields[k])));
+        in.fail(
+            fmt::format("field {} is not a number ('{}')", fieldName(k), io::excerpt(fields[k])));
       if (!std::isfinite(v))
         in.fail(fmt::format("field {} is not a finite number ('{}')", fieldName(k),
                             io::excerpt(fields[k])));
@@ -77,10 +76,10 @@ CsvTable readCsvTable(const std::string& path) {
   }
   if (table.lines.empty())
     throw InputError(fmt::format("{}: no data rows; expected comma-separated numbers", path));
-  table.rows = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                                              Eigen::RowMajor>>(
-      values.data(), static_cast<Eigen::Index>(table.lines.size()),
-      static_cast<Eigen::Index>(columns));
+  table.rows =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          values.data(), static_cast<Eigen::Index>(table.lines.size()),
+          static_cast<Eigen::Index>(columns));
   return table;
 }
 

@@ -1,10 +1,9 @@
 // Reading a CSV table of numbers with an optional header line, e.g. control-point trajectories
 // (time,x,y,z rows in s and m). Every parse error names the file, the line and the field.
 #pragma once
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace bcassim {
 

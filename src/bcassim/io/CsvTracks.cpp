@@ -6,8 +6,8 @@
 #include <limits>
 
 #include "bcassim/Error.h"
-#include "bcassim/io/Files.h"
 #include "bcassim/io/CsvTable.h"
+#include "bcassim/io/Files.h"
 
 namespace bcassim {
 namespace {
@@ -54,14 +54,15 @@ MarkerTracks readMarkerTracks(const std::string& path) {
     const double time = table.rows(r, 0);
     const double marker = table.rows(r, 1);
     if (marker < 0 || marker != std::floor(marker) || marker >= kMaxMarkers)
-      throw InputError(fmt::format("{}:{}: field marker is {}; expected an integer index in [0, "
-                                   "{})",
-                                   path, table.lines[r], marker, kMaxMarkers));
+      throw InputError(
+          fmt::format("{}:{}: field marker is {}; expected an integer index in [0, "
+                      "{})",
+                      path, table.lines[r], marker, kMaxMarkers));
     if (!tracks.times.empty() && time < tracks.times.back())
-      throw InputError(fmt::format("{}:{}: time {} is earlier than {} on line {}; expected "
-                                   "non-decreasing times",
-                                   path, table.lines[r], time, tracks.times.back(),
-                                   table.lines[r - 1]));
+      throw InputError(
+          fmt::format("{}:{}: time {} is earlier than {} on line {}; expected "
+                      "non-decreasing times",
+                      path, table.lines[r], time, tracks.times.back(), table.lines[r - 1]));
     if (tracks.times.empty() || time > tracks.times.back()) {
       tracks.times.push_back(time);
       frameRows.emplace_back();
@@ -69,9 +70,10 @@ MarkerTracks readMarkerTracks(const std::string& path) {
     const long long m = static_cast<long long>(marker);
     for (const auto& [other, row] : frameRows.back())
       if (other == m)
-        throw InputError(fmt::format("{}:{}: marker {} appears twice at time {} (also line {}); "
-                                     "expected one row per marker and frame",
-                                     path, table.lines[r], m, time, table.lines[row]));
+        throw InputError(
+            fmt::format("{}:{}: marker {} appears twice at time {} (also line {}); "
+                        "expected one row per marker and frame",
+                        path, table.lines[r], m, time, table.lines[row]));
     frameRows.back().emplace_back(m, r);
     maxMarker = std::max(maxMarker, m);
   }

@@ -1,11 +1,12 @@
 // Marker tracks as CSV, one row per marker and frame: columns time,marker,x,y,z (s, index, m).
 // Written incrementally (flushed every frame) so a killed run leaves a readable file.
 #pragma once
+#include <Eigen/Core>
 #include <fstream>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
+#include "bcassim/io/CsvTable.h"  // readCsvTable, for the other CSV inputs read beside tracks
 
 namespace bcassim {
 

@@ -1,11 +1,10 @@
 // Named data arrays to attach to a written dataset (ParaView output): point scalars and vectors,
 // and cell scalars. Values are in SI units; the name should say which (e.g. "stress_Pa").
 #pragma once
+#include <Eigen/Core>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace bcassim {
 struct FieldSet {

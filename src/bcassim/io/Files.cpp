@@ -22,8 +22,8 @@ void createParentDirectory(const std::string& path) {
   std::error_code ec;
   std::filesystem::create_directories(parent, ec);
   if (ec)
-    throw InputError(fmt::format("{}: cannot create directory '{}' ({})", path, parent.string(),
-                                 ec.message()));
+    throw InputError(
+        fmt::format("{}: cannot create directory '{}' ({})", path, parent.string(), ec.message()));
 }
 
 std::string lowerExtension(const std::string& path) {

@@ -19,8 +19,8 @@ using io::TextLines;
 // Nodes per element type, from the Gmsh reference manual (0 for types we do not know, whose
 // lines are then not checked for their length).
 int nodesPerElement(long long type) {
-  static constexpr int kCounts[] = {0,  2,  3,  4,  4,  8,  6,  5,  3,  6,  9,  10, 27, 18, 14, 1,
-                                    8,  20, 15, 13, 9,  10, 12, 15, 15, 21, 4,  5,  6,  20, 35, 56};
+  static constexpr int kCounts[] = {0, 2,  3,  4,  4, 8,  6,  5,  3,  6,  9, 10, 27, 18, 14, 1,
+                                    8, 20, 15, 13, 9, 10, 12, 15, 15, 21, 4, 5,  6,  20, 35, 56};
   if (type >= 0 && type < static_cast<long long>(std::size(kCounts))) return kCounts[type];
   if (type == 92) return 64;
   if (type == 93) return 125;
@@ -69,8 +69,8 @@ struct Parser {
   double coordinate(std::string_view field, long long nodeTag, char axis) const {
     double v = 0;
     if (!io::parseDouble(field, v))
-      in.fail(fmt::format("expected a number for coordinate {} of node {}, got '{}'", axis,
-                          nodeTag, io::excerpt(field)));
+      in.fail(fmt::format("expected a number for coordinate {} of node {}, got '{}'", axis, nodeTag,
+                          io::excerpt(field)));
     if (!std::isfinite(v))
       in.fail(fmt::format("coordinate {} of node {} is not a finite number ('{}')", axis, nodeTag,
                           io::excerpt(field)));
@@ -84,10 +84,8 @@ struct Parser {
 
   // Reads the line of entry `done` of `total` in `section`; a section end or end of file before
   // all announced entries is reported as truncation.
-  void entryLine(std::string_view section, std::string_view what, long long total,
-                 long long done) {
-    if (!nextLine())
-      truncated(section, fmt::format("expected {} {}, read {}", total, what, done));
+  void entryLine(std::string_view section, std::string_view what, long long total, long long done) {
+    if (!nextLine()) truncated(section, fmt::format("expected {} {}, read {}", total, what, done));
     if (io::trim(in.line())[0] == '$')
       in.fail(fmt::format("expected {} {} in {}, got '{}' after {}", total, what, section,
                           io::excerpt(io::trim(in.line())), done));
@@ -103,7 +101,8 @@ struct Parser {
 
   void addNode(long long tag, double x, double y, double z) {
     const int index = static_cast<int>(coords.size() / 3);
-    if (!nodeIndex.emplace(tag, index).second) in.fail(fmt::format("node {} is defined twice", tag));
+    if (!nodeIndex.emplace(tag, index).second)
+      in.fail(fmt::format("node {} is defined twice", tag));
     coords.insert(coords.end(), {x, y, z});
   }
 
@@ -123,13 +122,15 @@ struct Parser {
   void meshFormat() {
     if (!nextLine()) truncated("$MeshFormat", "expected a version line");
     const auto f = fields();
-    if (f.size() < 3) in.fail(fmt::format("expected 3 fields in the format line, got {}", f.size()));
+    if (f.size() < 3)
+      in.fail(fmt::format("expected 3 fields in the format line, got {}", f.size()));
     double version = 0;
     if (!io::parseDouble(f[0], version))
       in.fail(fmt::format("expected a version number, got '{}'", io::excerpt(f[0])));
     if (f[1] != "0")
-      in.fail("binary Gmsh files are not supported; expected ASCII (file-type 0), e.g. saved with "
-              "gmsh -format msh22 or msh41 without -bin");
+      in.fail(
+          "binary Gmsh files are not supported; expected ASCII (file-type 0), e.g. saved with "
+          "gmsh -format msh22 or msh41 without -bin");
     if (version >= 2.0 && version < 3.0)
       format = Format::kV2;
     else if (f[0] == "4.1")
@@ -186,8 +187,8 @@ struct Parser {
         in.fail(fmt::format("element type {} has {} nodes, but the line announces {}", type,
                             expectedNodes, numNodes));
       if (static_cast<long long>(f.size()) != 5 + numNodes)
-        in.fail(fmt::format("expected {} fields in an element line, got {}", 5 + numNodes,
-                            f.size()));
+        in.fail(
+            fmt::format("expected {} fields in an element line, got {}", 5 + numNodes, f.size()));
       if (type == kTetType) addTet(tag, f, 5, physical);
     }
     sectionEnd("$ELM", "$ENDELM", n, "elements");
@@ -211,8 +212,8 @@ struct Parser {
       const int numNodes = nodesPerElement(type);
       if (numNodes == 0) continue;
       if (static_cast<long long>(f.size()) != 3 + numTags + numNodes)
-        in.fail(fmt::format("expected {} fields in an element line, got {}",
-                            3 + numTags + numNodes, f.size()));
+        in.fail(fmt::format("expected {} fields in an element line, got {}", 3 + numTags + numNodes,
+                            f.size()));
       const long long physical = numTags > 0 ? integer(f[3], "the physical tag") : 0;
       if (type == kTetType) addTet(tag, f, 3 + numTags, physical);
     }
@@ -235,8 +236,8 @@ struct Parser {
         if (dim != 3) continue;
         const auto f = fields();
         if (f.size() < 8)
-          in.fail(fmt::format("expected at least 8 fields in a volume entity line, got {}",
-                              f.size()));
+          in.fail(
+              fmt::format("expected at least 8 fields in a volume entity line, got {}", f.size()));
         const long long tag = integer(f[0], "the volume tag");
         const long long numPhysical = count(f[7], "number of physical tags");
         if (static_cast<long long>(f.size()) < 8 + numPhysical)
@@ -253,9 +254,10 @@ struct Parser {
     if (!nextLine()) truncated("$Nodes", "expected the node counts");
     const auto header = fields();
     if (header.size() != 4)
-      in.fail(fmt::format("expected 4 fields (numEntityBlocks numNodes minNodeTag maxNodeTag), "
-                          "got {}",
-                          header.size()));
+      in.fail(
+          fmt::format("expected 4 fields (numEntityBlocks numNodes minNodeTag maxNodeTag), "
+                      "got {}",
+                      header.size()));
     const long long blocks = count(header[0], "number of entity blocks");
     const long long n = count(header[1], "number of nodes");
     coords.reserve(3 * std::min(n, kMaxReserve));
@@ -265,9 +267,10 @@ struct Parser {
       entryLine("$Nodes", "nodes", n, done);
       const auto f = fields();
       if (f.size() != 4)
-        in.fail(fmt::format("expected 4 fields in a node block header (entityDim entityTag "
-                            "parametric numNodesInBlock), got {}",
-                            f.size()));
+        in.fail(
+            fmt::format("expected 4 fields in a node block header (entityDim entityTag "
+                        "parametric numNodesInBlock), got {}",
+                        f.size()));
       const long long dim = integer(f[0], "the entity dimension");
       const bool parametric = integer(f[2], "the parametric flag") != 0;
       const long long inBlock = count(f[3], "number of nodes in the block");
@@ -291,8 +294,7 @@ struct Parser {
                 coordinate(c[2], tags[i], 'z'));
       }
     }
-    if (done != n)
-      in.fail(fmt::format("node blocks hold {} nodes; expected {}", done, n));
+    if (done != n) in.fail(fmt::format("node blocks hold {} nodes; expected {}", done, n));
     sectionEnd("$Nodes", "$EndNodes", n, "nodes");
     sawNodes = true;
   }
@@ -302,9 +304,10 @@ struct Parser {
     if (!nextLine()) truncated("$Elements", "expected the element counts");
     const auto header = fields();
     if (header.size() != 4)
-      in.fail(fmt::format("expected 4 fields (numEntityBlocks numElements minElementTag "
-                          "maxElementTag), got {}",
-                          header.size()));
+      in.fail(
+          fmt::format("expected 4 fields (numEntityBlocks numElements minElementTag "
+                      "maxElementTag), got {}",
+                      header.size()));
     const long long blocks = count(header[0], "number of entity blocks");
     const long long n = count(header[1], "number of elements");
     long long done = 0;
@@ -312,9 +315,10 @@ struct Parser {
       entryLine("$Elements", "elements", n, done);
       const auto f = fields();
       if (f.size() != 4)
-        in.fail(fmt::format("expected 4 fields in an element block header (entityDim entityTag "
-                            "elementType numElementsInBlock), got {}",
-                            f.size()));
+        in.fail(
+            fmt::format("expected 4 fields in an element block header (entityDim entityTag "
+                        "elementType numElementsInBlock), got {}",
+                        f.size()));
       const long long dim = integer(f[0], "the entity dimension");
       const long long entity = integer(f[1], "the entity tag");
       const long long type = integer(f[2], "the element type");
@@ -332,8 +336,8 @@ struct Parser {
         if (numNodes == 0) continue;
         const auto e = fields();
         if (static_cast<long long>(e.size()) != 1 + numNodes)
-          in.fail(fmt::format("expected {} fields in an element line, got {}", 1 + numNodes,
-                              e.size()));
+          in.fail(
+              fmt::format("expected {} fields in an element line, got {}", 1 + numNodes, e.size()));
         if (type == kTetType) addTet(integer(e[0], "the element tag"), e, 1, physical);
       }
     }
@@ -382,16 +386,17 @@ struct Parser {
     if (!sawElements)
       throw InputError(fmt::format("{}: no $Elements section; expected a Gmsh mesh", in.path()));
     if (tets.empty())
-      throw InputError(fmt::format("{}: no tetrahedra (Gmsh element type 4); expected a volume "
-                                   "mesh",
-                                   in.path()));
+      throw InputError(
+          fmt::format("{}: no tetrahedra (Gmsh element type 4); expected a volume "
+                      "mesh",
+                      in.path()));
     TetMesh mesh;
     const Eigen::Index nv = static_cast<Eigen::Index>(coords.size() / 3);
     const Eigen::Index nt = static_cast<Eigen::Index>(regions.size());
     mesh.V = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
         coords.data(), nv, 3);
     mesh.T = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>>(tets.data(),
-                                                                                       nt, 4);
+                                                                                      nt, 4);
     mesh.region = Eigen::Map<const Eigen::VectorXi>(regions.data(), nt);
     return mesh;
   }

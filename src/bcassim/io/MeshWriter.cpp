@@ -24,7 +24,8 @@ namespace {
 void writePolyData(const std::string& path, vtkPolyData* data) {
   const std::string ext = io::lowerExtension(path);
   if (ext != ".vtp")
-    throw InputError(fmt::format("{}: unsupported point set format '{}'; expected .vtp", path, ext));
+    throw InputError(
+        fmt::format("{}: unsupported point set format '{}'; expected .vtp", path, ext));
   io::createParentDirectory(path);
   io::VtkErrorCapture capture;
   vtkNew<vtkXMLPolyDataWriter> writer;
@@ -42,14 +43,16 @@ void writeTetMesh(const std::string& path, const TetMesh& mesh, const Eigen::Vec
                   const FieldSet& fields) {
   const std::string ext = io::lowerExtension(path);
   if (ext != ".vtu" && ext != ".vtk")
-    throw InputError(fmt::format("{}: unsupported tetrahedral mesh output format '{}'; expected "
-                                 ".vtu or .vtk",
-                                 path, ext));
+    throw InputError(
+        fmt::format("{}: unsupported tetrahedral mesh output format '{}'; expected "
+                    ".vtu or .vtk",
+                    path, ext));
   const Eigen::Index n = mesh.numNodes();
   if (positions.size() != 0 && positions.size() != 3 * n)
-    throw std::invalid_argument(fmt::format("writeTetMesh({}): {} position values for {} nodes; "
-                                            "expected {}",
-                                            path, positions.size(), n, 3 * n));
+    throw std::invalid_argument(
+        fmt::format("writeTetMesh({}): {} position values for {} nodes; "
+                    "expected {}",
+                    path, positions.size(), n, 3 * n));
   if (mesh.region.size() != 0 && mesh.region.size() != mesh.numTets())
     throw std::invalid_argument(fmt::format("writeTetMesh({}): {} region ids for {} tets", path,
                                             mesh.region.size(), mesh.numTets()));
@@ -58,8 +61,8 @@ void writeTetMesh(const std::string& path, const TetMesh& mesh, const Eigen::Vec
   if (positions.size() == 0) {
     grid->SetPoints(io::toVtkPoints(mesh.V));
   } else {
-    grid->SetPoints(io::toVtkPoints(
-        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+    grid->SetPoints(
+        io::toVtkPoints(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
             positions.data(), n, 3)));
   }
   grid->Allocate(mesh.numTets());
@@ -111,9 +114,10 @@ void writePolyLines(const std::string& path, const Eigen::MatrixX3d& points,
   for (Eigen::Index s = 0; s < segments.rows(); ++s)
     for (int k = 0; k < 2; ++k)
       if (segments(s, k) < 0 || segments(s, k) >= points.rows())
-        throw std::invalid_argument(fmt::format("writePolyLines({}): segment {} refers to point "
-                                                "{}; expected an index in [0, {})",
-                                                path, s, segments(s, k), points.rows()));
+        throw std::invalid_argument(
+            fmt::format("writePolyLines({}): segment {} refers to point "
+                        "{}; expected an index in [0, {})",
+                        path, s, segments(s, k), points.rows()));
   vtkNew<vtkPolyData> data;
   data->SetPoints(io::toVtkPoints(points));
   vtkNew<vtkCellArray> lines;

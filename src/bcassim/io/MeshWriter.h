@@ -1,9 +1,8 @@
 // Writing meshes and point sets as VTK files for ParaView: tetrahedral meshes (.vtu, legacy .vtk)
 // at given positions with named fields, and point clouds / line segments (.vtp). Metres.
 #pragma once
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "bcassim/io/FieldSet.h"
 #include "bcassim/mesh/TetMesh.h"

@@ -48,9 +48,10 @@ TriMesh readObj(const std::string& path) {
         if (index == 0) in.fail("face vertex index 0 is invalid; OBJ indices start at 1");
         if (index < 0) {
           if (-index > defined)
-            in.fail(fmt::format("relative face vertex index {} goes before the first vertex ({} "
-                                "defined so far)",
-                                index, defined));
+            in.fail(
+                fmt::format("relative face vertex index {} goes before the first vertex ({} "
+                            "defined so far)",
+                            index, defined));
           polygon.push_back(defined + index);
         } else {
           polygon.push_back(index - 1);
@@ -73,9 +74,10 @@ TriMesh readObj(const std::string& path) {
     for (int k = 0; k < 3; ++k) {
       const long long v = corners[3 * t + k];
       if (v >= numVertices)
-        throw InputError(fmt::format("{}:{}: face refers to vertex {}, but the file defines {} "
-                                     "vertices",
-                                     path, faceLines[t], v + 1, numVertices));
+        throw InputError(
+            fmt::format("{}:{}: face refers to vertex {}, but the file defines {} "
+                        "vertices",
+                        path, faceLines[t], v + 1, numVertices));
       mesh.F(t, k) = static_cast<int>(v);
     }
   return mesh;

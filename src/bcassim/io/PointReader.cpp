@@ -8,8 +8,8 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "bcassim/Error.h"
-#include "bcassim/io/Files.h"
 #include "bcassim/io/CsvTable.h"
+#include "bcassim/io/Files.h"
 #include "bcassim/io/TextLines.h"
 #include "bcassim/io/VtkSupport.h"
 
@@ -40,9 +40,10 @@ Eigen::MatrixX3d readCsvPoints(const std::string& path) {
     cols[1] = table.column("y");
     cols[2] = table.column("z");
     if (cols[1] < 0 || cols[2] < 0)
-      throw InputError(fmt::format("{}: header names column x but not both y and z; expected "
-                                   "columns x,y,z",
-                                   path));
+      throw InputError(
+          fmt::format("{}: header names column x but not both y and z; expected "
+                      "columns x,y,z",
+                      path));
   } else if (table.rows.cols() != 3) {
     throw InputError(fmt::format("{}:{}: expected 3 fields (x,y,z), got {}", path,
                                  table.lines.front(), table.rows.cols()));
@@ -57,9 +58,10 @@ Eigen::MatrixX3d readCsvPoints(const std::string& path) {
 Eigen::MatrixX3d readPoints(const std::string& path) {
   const std::string ext = io::lowerExtension(path);
   if (ext != ".vtk" && ext != ".vtu" && ext != ".vtp" && ext != ".csv")
-    throw InputError(fmt::format("{}: unsupported point set format '{}'; expected .vtk, .vtu, "
-                                 ".vtp or .csv",
-                                 path, ext));
+    throw InputError(
+        fmt::format("{}: unsupported point set format '{}'; expected .vtk, .vtu, "
+                    ".vtp or .csv",
+                    path, ext));
   io::requireReadableFile(path);
   if (ext == ".csv") return readCsvPoints(path);
   if (ext == ".vtu") return readVtkPoints<vtkXMLUnstructuredGridReader>(path);

@@ -1,9 +1,8 @@
 // Reading a set of points, e.g. observed points or markers: the points of any VTK dataset
 // (.vtk, .vtu, .vtp) or the rows of a CSV file. Coordinates are as stored (metres expected).
 #pragma once
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 namespace bcassim {
 

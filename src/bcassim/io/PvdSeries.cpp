@@ -26,9 +26,10 @@ bool isSafeName(const std::string& name) {
 PvdSeries::PvdSeries(const std::string& directory, const std::string& baseName)
     : directory_(directory), baseName_(baseName), parts_{""} {
   if (!isSafeName(baseName))
-    throw std::invalid_argument(fmt::format("PvdSeries: base name '{}' must be letters, digits, "
-                                            "'_' or '-'",
-                                            baseName));
+    throw std::invalid_argument(
+        fmt::format("PvdSeries: base name '{}' must be letters, digits, "
+                    "'_' or '-'",
+                    baseName));
   std::error_code ec;
   std::filesystem::create_directories(directory, ec);
   if (ec || !std::filesystem::is_directory(directory))
@@ -48,7 +49,7 @@ int PvdSeries::addFrame(double time, const TetMesh& mesh, const Eigen::VectorXd&
   const std::string file = fmt::format("{}_{:06d}.vtu", baseName_, frame);
   writeTetMesh((std::filesystem::path(directory_) / file).string(), mesh, positions, fields);
   ++numFrames_;
-  times_.push_back(time);
+  lastTime_ = time;
   entries_.push_back({time, 0, file});
   rewriteIndex();
   return frame;
@@ -58,9 +59,10 @@ std::string PvdSeries::partFile(const std::string& part, const char* extension, 
   if (numFrames_ == 0)
     throw std::invalid_argument("PvdSeries: addFrame must come before adding a part");
   if (!isSafeName(part))
-    throw std::invalid_argument(fmt::format("PvdSeries: part name '{}' must be letters, digits, "
-                                            "'_' or '-'",
-                                            part));
+    throw std::invalid_argument(
+        fmt::format("PvdSeries: part name '{}' must be letters, digits, "
+                    "'_' or '-'",
+                    part));
   auto it = std::find(parts_.begin(), parts_.end(), part);
   if (it == parts_.end()) it = parts_.insert(parts_.end(), part);
   *partIndex = static_cast<int>(it - parts_.begin());
@@ -72,7 +74,7 @@ void PvdSeries::addPoints(const std::string& part, const Eigen::MatrixX3d& point
   int index = 0;
   const std::string file = partFile(part, ".vtp", &index);
   writePointCloud((std::filesystem::path(directory_) / file).string(), points, fields);
-  entries_.push_back({times_.back(), index, file});
+  entries_.push_back({lastTime_, index, file});
   rewriteIndex();
 }
 
@@ -81,7 +83,7 @@ void PvdSeries::addPolyLines(const std::string& part, const Eigen::MatrixX3d& po
   int index = 0;
   const std::string file = partFile(part, ".vtp", &index);
   writePolyLines((std::filesystem::path(directory_) / file).string(), points, segments, fields);
-  entries_.push_back({times_.back(), index, file});
+  entries_.push_back({lastTime_, index, file});
   rewriteIndex();
 }
 

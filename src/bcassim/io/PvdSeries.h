@@ -1,10 +1,9 @@
 // A ParaView time series written incrementally: one .vtu per frame plus a .pvd index rewritten
 // after every frame, so the series stays valid if the run is killed. Times in seconds.
 #pragma once
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "bcassim/io/FieldSet.h"
 #include "bcassim/mesh/TetMesh.h"
@@ -47,7 +46,7 @@ class PvdSeries {
   std::string baseName_;
   std::vector<std::string> parts_;  // part names; index 0 is the mesh
   std::vector<Entry> entries_;
-  std::vector<double> times_;
+  double lastTime_ = 0.0;
   int numFrames_ = 0;
 };
 

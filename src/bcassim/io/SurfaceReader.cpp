@@ -41,9 +41,10 @@ TriMesh trianglesOf(vtkPolyData* input, const std::string& path) {
     if (ids->GetNumberOfIds() == 3)
       for (int k = 0; k < 3; ++k) faces.push_back(static_cast<int>(ids->GetId(k)));
   if (faces.empty())
-    throw InputError(fmt::format("{}: no triangles or polygons among {} cells; expected a "
-                                 "surface",
-                                 path, input->GetNumberOfCells()));
+    throw InputError(
+        fmt::format("{}: no triangles or polygons among {} cells; expected a "
+                    "surface",
+                    path, input->GetNumberOfCells()));
   mesh.F = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(
       faces.data(), static_cast<Eigen::Index>(faces.size() / 3), 3);
   io::requireFinitePoints(mesh.V, path);
@@ -71,9 +72,10 @@ TriMesh readLegacySurface(const std::string& path) {
     vtkNew<vtkPolyDataReader> probe;
     probe->SetFileName(path.c_str());
     if (!probe->IsFilePolyData())
-      throw InputError(fmt::format("{}: not a legacy VTK polydata file; expected 'DATASET "
-                                   "POLYDATA' with triangles",
-                                   path));
+      throw InputError(
+          fmt::format("{}: not a legacy VTK polydata file; expected 'DATASET "
+                      "POLYDATA' with triangles",
+                      path));
   }
   return readVtkSurface<vtkPolyDataReader>(path, "legacy VTK", true);
 }
@@ -109,9 +111,10 @@ void writeVtkSurface(const std::string& path, const TriMesh& mesh, bool binary) 
 TriMesh readSurface(const std::string& path) {
   const std::string ext = io::lowerExtension(path);
   if (ext != ".stl" && ext != ".obj" && ext != ".vtk" && ext != ".vtp")
-    throw InputError(fmt::format("{}: unsupported surface format '{}'; expected .stl, .obj, .vtk "
-                                 "or .vtp",
-                                 path, ext));
+    throw InputError(
+        fmt::format("{}: unsupported surface format '{}'; expected .stl, .obj, .vtk "
+                    "or .vtp",
+                    path, ext));
   io::requireReadableFile(path);
   if (ext == ".obj") return readObj(path);
   if (ext == ".stl") return readVtkSurface<vtkSTLReader>(path, "STL");
@@ -137,9 +140,10 @@ void writeSurface(const std::string& path, const TriMesh& mesh) {
     if (!ok) throw InputError(fmt::format("{}: cannot write file", path));
     return;
   }
-  throw InputError(fmt::format("{}: unsupported surface output format '{}'; expected .stl, .obj, "
-                               ".vtk or .vtp",
-                               path, ext));
+  throw InputError(
+      fmt::format("{}: unsupported surface output format '{}'; expected .stl, .obj, "
+                  ".vtk or .vtp",
+                  path, ext));
 }
 
 }  // namespace bcassim

@@ -1,7 +1,8 @@
 #include "bcassim/io/TextLines.h"
 
-#include <charconv>
 #include <fmt/format.h>
+
+#include <charconv>
 
 #include "bcassim/Error.h"
 #include "bcassim/io/Files.h"
@@ -54,7 +55,8 @@ std::vector<std::string_view> splitCommas(std::string_view line) {
   size_t start = 0;
   while (true) {
     const size_t comma = line.find(',', start);
-    fields.push_back(trim(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
+    fields.push_back(
+        trim(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
     if (comma == std::string_view::npos) break;
     start = comma + 1;
   }

@@ -1,5 +1,5 @@
-// Line-by-line reader of a text file that counts lines, and the field parsers shared by the text
-// formats (Gmsh, OBJ, CSV), so that every parse error names the file and the line.
+// Internal to the io module: a line-by-line text reader that counts lines, and the field parsers
+// shared by the text formats (Gmsh, OBJ, CSV), so that every parse error names file and line.
 #pragma once
 #include <fstream>
 #include <string>

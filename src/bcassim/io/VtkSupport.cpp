@@ -30,12 +30,14 @@ class CapturingOutputWindow : public vtkOutputWindow {
   void DisplayErrorText(const char* text) override {
     if (text) errors.emplace_back(text);
   }
-  void DisplayWarningText(const char*) override { warned = true; }
-  void DisplayGenericWarningText(const char*) override { warned = true; }
+  void DisplayWarningText(const char* text) override {
+    if (text) warnings.emplace_back(text);
+  }
+  void DisplayGenericWarningText(const char* text) override { DisplayWarningText(text); }
   void DisplayDebugText(const char*) override {}
 
   std::vector<std::string> errors;
-  bool warned = false;
+  std::vector<std::string> warnings;
 };
 vtkStandardNewMacro(CapturingOutputWindow);
 
@@ -44,13 +46,13 @@ std::recursive_mutex& vtkOutputMutex() {
   return mutex;
 }
 
-// VTK errors read "ERROR: In <file>, line <n>\n<Class> (<address>): <message>\n\n".
+// VTK messages read "ERROR: In <file>, line <n>\n<Class> (<address>): <message>\n\n", or
+// "Generic Warning: In <file>, line <n>\n<message>" from code outside an object.
 std::string messageOf(const std::string& text) {
   std::string body = text;
-  if (body.rfind("ERROR: In ", 0) == 0) {
-    const size_t eol = body.find('\n');
-    body = eol == std::string::npos ? std::string() : body.substr(eol + 1);
-  }
+  const size_t eol = body.find('\n');
+  if (eol != std::string::npos && body.find(": In ") < eol && body.find(", line ") < eol)
+    body = body.substr(eol + 1);
   const size_t colon = body.find("): ");
   if (colon != std::string::npos && colon < body.find('\n')) body = body.substr(colon + 3);
   std::string out;
@@ -60,14 +62,16 @@ std::string messageOf(const std::string& text) {
     out += c;
   }
   while (!out.empty() && out.back() == ' ') out.pop_back();
+  // The caller's message names the file already.
+  const size_t forFile = out.find(" for file: ");
+  if (forFile != std::string::npos) out.erase(forFile);
   return out;
 }
 
-void checkSize(Eigen::Index got, Eigen::Index expected, const std::string& name,
-               const char* kind) {
+void checkSize(Eigen::Index got, Eigen::Index expected, const std::string& name, const char* kind) {
   if (got != expected)
-    throw std::invalid_argument(fmt::format("{} field '{}' has {} values; expected {}", kind, name,
-                                            got, expected));
+    throw std::invalid_argument(
+        fmt::format("{} field '{}' has {} values; expected {}", kind, name, got, expected));
 }
 
 }  // namespace
@@ -92,7 +96,12 @@ bool VtkErrorCapture::hasError() const {
 }
 
 bool VtkErrorCapture::hasWarning() const {
-  return static_cast<CapturingOutputWindow*>(capture_.Get())->warned;
+  return !static_cast<CapturingOutputWindow*>(capture_.Get())->warnings.empty();
+}
+
+std::string VtkErrorCapture::firstWarning() const {
+  const auto& warnings = static_cast<CapturingOutputWindow*>(capture_.Get())->warnings;
+  return warnings.empty() ? std::string() : messageOf(warnings.front());
 }
 
 std::string VtkErrorCapture::firstError() const {
@@ -160,7 +169,13 @@ void throwIfVtkError(const VtkErrorCapture& capture, const std::string& path,
 
 void throwIfLegacyVtkError(const VtkErrorCapture& capture, const std::string& path,
                            const std::string& what) {
-  if (!capture.hasError()) return;
+  // Short data (a truncated file) is only a warning to the legacy readers.
+  if (!capture.hasError()) {
+    const std::string warning = capture.firstWarning();
+    if (warning.rfind("Error reading", 0) == 0)
+      throw InputError(fmt::format("{}: {}: {}", path, what, warning));
+    return;
+  }
   const std::string message = capture.firstError();
   const std::string prefix = "Unrecognized keyword: ";
   if (capture.hasWarning() && message.rfind(prefix, 0) == 0) {
@@ -174,9 +189,10 @@ void throwIfLegacyVtkError(const VtkErrorCapture& capture, const std::string& pa
       double value = 0;
       if (parseDouble(token, value) && !std::isfinite(value))
         in.fail(fmt::format("value '{}' is not a finite number", excerpt(token)));
-      in.fail(fmt::format("cannot read legacy VTK data at '{}'; expected a number, or section "
-                          "counts that match the data",
-                          excerpt(token)));
+      in.fail(
+          fmt::format("cannot read legacy VTK data at '{}'; expected a number, or section "
+                      "counts that match the data",
+                      excerpt(token)));
     }
   }
   throwIfVtkError(capture, path, what);
@@ -186,9 +202,10 @@ void requireFinitePoints(const Eigen::MatrixX3d& V, const std::string& path) {
   for (Eigen::Index i = 0; i < V.rows(); ++i)
     for (int k = 0; k < 3; ++k)
       if (!std::isfinite(V(i, k)))
-        throw InputError(fmt::format("{}: point {} has a non-finite coordinate ({}); expected a "
-                                     "finite number",
-                                     path, i, V(i, k)));
+        throw InputError(
+            fmt::format("{}: point {} has a non-finite coordinate ({}); expected a "
+                        "finite number",
+                        path, i, V(i, k)));
 }
 
 }  // namespace bcassim::io

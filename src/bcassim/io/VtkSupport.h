@@ -1,12 +1,12 @@
 // Internal helpers of the io module around VTK: silencing VTK's own error printing while turning
 // its errors into one-line InputErrors, and conversions between Eigen and VTK arrays.
 #pragma once
+#include <vtkSmartPointer.h>
+
+#include <Eigen/Core>
 #include <memory>
 #include <mutex>
 #include <string>
-
-#include <Eigen/Core>
-#include <vtkSmartPointer.h>
 
 #include "bcassim/io/FieldSet.h"
 
@@ -30,6 +30,7 @@ class VtkErrorCapture {
   // The first error's message without VTK's source location, on one line.
   std::string firstError() const;
   bool hasWarning() const;
+  std::string firstWarning() const;
 
  private:
   std::unique_lock<std::recursive_mutex> lock_;
