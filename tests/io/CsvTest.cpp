@@ -104,6 +104,12 @@ TEST(CsvTable, ReadsHeaderRowsAndSkipsComments) {
   EXPECT_EQ(table.column("w"), -1);
 }
 
+TEST(CsvTable, FirstLineMixingNumbersAndWordsIsABadRowNotAHeader) {
+  TempDir dir;
+  const std::string path = writeText(dir.file("traj.csv"), "0,O.5,0,0\n1,0,0,0\n");
+  EXPECT_INPUT_ERROR(path + ":1: field 2 is not a number ('O.5')", readCsvTable(path));
+}
+
 TEST(CsvTable, BadLine) {
   TempDir dir;
   const std::string path = writeText(dir.file("traj.csv"), "time,x,y,z\n0,0,0,0\n1,0,0\n");

@@ -134,6 +134,16 @@ TEST(MeshReader, NanCoordinateInLegacyVtk) {
   EXPECT_INPUT_ERROR(path + ":8: value 'nan' is not a finite number", readTetMesh(path));
 }
 
+TEST(MeshReader, VtkErrorsAreNotPrinted) {
+  TempDir dir;
+  const std::string path = writeText(dir.file("nan.vtk"), legacyCube("nan"));
+  ::testing::internal::CaptureStderr();
+  ::testing::internal::CaptureStdout();
+  EXPECT_THROW(readTetMesh(path), InputError);
+  EXPECT_EQ(::testing::internal::GetCapturedStdout(), "");
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+}
+
 TEST(MeshReader, TruncatedLegacyVtk) {
   TempDir dir;
   std::string text = legacyCube();

@@ -22,10 +22,11 @@ std::string unquote(std::string_view s) {
   return std::string(s);
 }
 
-bool allNumbers(const std::vector<std::string_view>& fields) {
+// A header has no numeric field; a first line mixing numbers and words is a bad data line.
+bool isHeader(const std::vector<std::string_view>& fields) {
   double v = 0;
-  return std::all_of(fields.begin(), fields.end(),
-                     [&](std::string_view f) { return io::parseDouble(f, v); });
+  return std::none_of(fields.begin(), fields.end(),
+                      [&](std::string_view f) { return io::parseDouble(f, v); });
 }
 
 }  // namespace
@@ -52,7 +53,7 @@ CsvTable readCsvTable(const std::string& path) {
     if (first) {
       first = false;
       columns = fields.size();
-      if (!allNumbers(fields)) {
+      if (isHeader(fields)) {
         for (const auto f : fields) table.header.push_back(unquote(f));
         continue;
       }

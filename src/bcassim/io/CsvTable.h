@@ -16,7 +16,7 @@ struct CsvTable {
   int column(const std::string& name) const;
 };
 
-// A first line that is not all numbers is the header. Blank lines and lines starting with '#'
+// A first line without any number is the header. Blank lines and lines starting with '#'
 // are skipped; fields are comma-separated and trimmed. Every row must have as many fields as the
 // first and every value must be finite. Throws InputError, e.g.
 // "traj.csv:17: field z is not a finite number ('nan')" or "traj.csv:3: expected 4 fields
