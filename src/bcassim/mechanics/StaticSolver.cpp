@@ -10,6 +10,28 @@ StaticSolver::StaticSolver(const MechanicalModel& model, std::unique_ptr<LinearS
   solver_->analyzePattern(K_);
 }
 
+// Far from equilibrium (buckling, strong compression) the tangent of StVK or corotational
+// elasticity can be indefinite; shifting its diagonal (Levenberg-style) keeps the Newton step a
+// descent direction, and the line search does the rest.
+void StaticSolver::factorizeRegularized(const MechanicalModel& model) {
+  double shift = 0.0;
+  const double scale = K_.diagonal().cwiseAbs().mean();
+  for (int attempt = 0;; ++attempt) {
+    try {
+      solver_->setMatrix(K_);
+      return;
+    } catch (const NumericalError&) {
+      if (attempt == 12) throw;
+      const double next = shift == 0.0 ? 1e-6 * scale : 10.0 * shift;
+      const auto& bc = model.dirichlet.constrainedDofs();
+      Eigen::VectorXd add = Eigen::VectorXd::Constant(K_.rows(), next - shift);
+      for (int d : bc) add(d) = 0.0;  // constrained rows stay identity
+      for (Eigen::Index d = 0; d < K_.rows(); ++d) K_.coeffRef(d, d) += add(d);
+      shift = next;
+    }
+  }
+}
+
 StaticReport StaticSolver::solve(const MechanicalModel& model, double t, Eigen::VectorXd& x) {
   StaticReport report;
   const Eigen::VectorXd rest = model.restPositions();
@@ -43,7 +65,7 @@ StaticReport StaticSolver::solve(const MechanicalModel& model, double t, Eigen::
       ++report.iterations;
       Eigen::VectorXd rhs = -g;
       bc.eliminate(K_, rhs, Eigen::VectorXd::Zero(bc.constrainedDofs().size()));
-      solver_->setMatrix(K_);
+      factorizeRegularized(model);
       dx.setZero();
       solver_->solve(rhs, dx);
       // Backtracking (Armijo) on the total potential; the Newton step is a descent direction

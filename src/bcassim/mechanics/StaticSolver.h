@@ -28,6 +28,8 @@ class StaticSolver {
   StaticReport solve(const MechanicalModel& model, double t, Eigen::VectorXd& x);
 
  private:
+  void factorizeRegularized(const MechanicalModel& model);
+
   std::unique_ptr<LinearSolver> solver_;
   StaticOptions options_;
   SparseMatrix K_;
