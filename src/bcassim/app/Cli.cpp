@@ -1,10 +1,158 @@
 #include "bcassim/app/Cli.h"
 
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
 #include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <new>
+#include <string>
+
+#include "bcassim/Error.h"
+#include "bcassim/app/ProgressBar.h"
+#include "bcassim/app/SceneLoader.h"
+#include "bcassim/app/SimulationRunner.h"
+#include "bcassim/io/MeshReader.h"
+#include "bcassim/mesh/MeshQuality.h"
+
+#ifndef BCASSIM_VERSION
+#define BCASSIM_VERSION "0.1.0"
+#endif
 
 namespace bcassim {
-int runCli(int, char**) {
-  std::puts("bcassim: no command yet");
+
+namespace {
+
+// Exit codes: 0 success, 1 internal error, 2 bad input (file, scene, arguments), 3 numerical
+// failure during a run.
+constexpr int kExitInternal = 1;
+constexpr int kExitInput = 2;
+constexpr int kExitNumerical = 3;
+
+// The error on one line, whatever the exception text holds.
+void printError(const std::string& what) {
+  std::string line = what;
+  for (char& c : line)
+    if (c == '\n' || c == '\r') c = ' ';
+  fmt::print(stderr, "bcassim: error: {}\n", line);
+}
+
+std::string vec(const Vec3& v) { return fmt::format("[{:.6g}, {:.6g}, {:.6g}]", v(0), v(1), v(2)); }
+
+int simulate(const std::string& scenePath, const std::string& outDir, bool quiet) {
+  const Scene scene = loadScene(scenePath);
+  const TetMesh& mesh = *scene.model.mesh;
+  fmt::print("scene {}: {} nodes, {} tets, {} markers, {} springs, {} steps of {:.6g} s{}\n",
+             scenePath, mesh.numNodes(), mesh.numTets(), scene.markers.points.size(),
+             scene.model.springs.springs().size(), scene.steps, scene.dt(),
+             scene.variants.empty() ? ""
+                                    : fmt::format(", {} variants", scene.variants.size()));
+  std::fflush(stdout);
+  ProgressBar bar(stderr);
+  ProgressCallback progress;
+  if (!quiet) progress = [&bar](const RunProgress& p) { bar.update(p); };
+  const SimulationResult result = runSimulation(scene, outDir, progress);
+  bar.finish();
+
+  for (const RunResult& r : result.runs)
+    fmt::print("{}: {} steps, {:.3g} ms/step, {:.3g} s in all, {} frames, max displacement "
+               "{:.4g} mm (markers {:.4g} mm) -> {}\n",
+               r.name, r.steps, r.meanStepMs, r.wallSeconds, r.frames,
+               1e3 * r.maxNodeDisplacement, 1e3 * r.maxMarkerDisplacement, r.outDir);
+  if (result.runs.size() > 1) {
+    fmt::print("\n{:<20} {:>16} {:>16} {:>12}\n", "variant", "rel.diff final", "rel.diff all",
+               "ms/step");
+    for (const RunResult& r : result.runs)
+      fmt::print("{:<20} {:>15.3f}% {:>15.3f}% {:>12.3g}\n", r.name,
+                 100 * r.relativeDifferenceFinal, 100 * r.relativeDifferenceAll, r.meanStepMs);
+    fmt::print("(relative to the largest marker displacement of '{}'; table in {})\n",
+               result.runs.front().name,
+               (std::filesystem::path(outDir) / "variants.csv").string());
+  }
   return 0;
 }
+
+int meshInfo(const std::string& path, const std::string& regionField) {
+  const TetMesh mesh = readTetMesh(path, regionField);
+  const MeshQuality q = measureQuality(mesh);
+  std::map<int, long> tetsPerRegion;
+  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) ++tetsPerRegion[mesh.regionOf(t)];
+  std::string regions;
+  for (const auto& [id, count] : tetsPerRegion)
+    regions += fmt::format("{}{} ({} tets)", regions.empty() ? "" : ", ", id, count);
+  fmt::print("file: {}\n", path);
+  fmt::print("nodes: {}\n", q.numNodes);
+  fmt::print("tets: {}\n", q.numTets);
+  fmt::print("regions: {}\n", regions.empty() ? "none" : regions);
+  fmt::print("bounding box: {} .. {} m (size {} m)\n", vec(q.bboxMin), vec(q.bboxMax),
+             vec(q.bboxMax - q.bboxMin));
+  fmt::print("volume: {:.6g} m^3\n", q.totalVolume);
+  fmt::print("tet volume: min {:.6g} m^3, max {:.6g} m^3\n", q.minVolume, q.maxVolume);
+  fmt::print("inverted tets: {}\n", q.numInverted);
+  fmt::print("dihedral angle: min {:.3f} deg, max {:.3f} deg\n", q.minDihedralDeg,
+             q.maxDihedralDeg);
+  return 0;
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"bcassim: boundary conditions of organ models by Kalman filtering", "bcassim"};
+  app.set_version_flag("--version", std::string("bcassim ") + BCASSIM_VERSION);
+  app.require_subcommand(1);
+
+  std::string scenePath, outDir = "out";
+  bool quiet = false;
+  CLI::App* sim = app.add_subcommand("simulate", "Run a YAML scene forward in time");
+  sim->add_option("scene", scenePath, "Scene file (.yaml), see docs/scene-format.md")->required();
+  sim->add_option("-o,--out", outDir, "Output directory (created if missing)")
+      ->capture_default_str();
+  sim->add_flag("-q,--quiet", quiet, "No progress bar");
+
+  CLI::App* mesh = app.add_subcommand("mesh", "Mesh tools");
+  mesh->require_subcommand(1);
+  std::string meshPath, regionField;
+  CLI::App* info = mesh->add_subcommand("info", "Counts, regions, bounding box and quality");
+  info->add_option("file", meshPath, "Tet mesh (.vtk, .vtu, .msh), coordinates in metres")
+      ->required();
+  info->add_option("--region-field", regionField, "Integer cell array holding the region ids");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    printError(std::string(e.what()) + " (see 'bcassim --help')");
+    return kExitInput;
+  }
+  if (sim->parsed()) return simulate(scenePath, outDir, quiet);
+  if (info->parsed()) return meshInfo(meshPath, regionField);
+  return kExitInput;
+}
+
+}  // namespace
+
+int runCli(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const InputError& e) {
+    printError(e.what());
+    return kExitInput;
+  } catch (const NumericalError& e) {
+    printError(e.what());
+    return kExitNumerical;
+  } catch (const std::filesystem::filesystem_error& e) {
+    printError(e.what());
+    return kExitInput;
+  } catch (const std::bad_alloc&) {
+    printError("out of memory");
+    return kExitInternal;
+  } catch (const std::exception& e) {
+    printError(std::string("internal error: ") + e.what());
+    return kExitInternal;
+  } catch (...) {
+    printError("internal error: unknown exception");
+    return kExitInternal;
+  }
+}
+
 }  // namespace bcassim

@@ -1,0 +1,236 @@
+#include "bcassim/app/SimulationRunner.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "bcassim/Error.h"
+#include "bcassim/app/StressField.h"
+#include "bcassim/io/CsvTracks.h"
+#include "bcassim/io/PvdSeries.h"
+#include "bcassim/mechanics/solvers/LinearSolverFactory.h"
+
+namespace bcassim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::ofstream openForWriting(const std::string& path) {
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
+  std::ofstream out(path);
+  if (!out) throw InputError(path + ": cannot write file");
+  return out;
+}
+
+Eigen::MatrixX3d markerPositions(const Scene& scene, const Eigen::VectorXd& x) {
+  const MarkerSet& markers = scene.markers;
+  Eigen::MatrixX3d P(markers.points.size(), 3);
+  for (size_t i = 0; i < markers.points.size(); ++i)
+    P.row(i) = interpolate(markers.points[i], *scene.model.mesh, x).transpose();
+  return P;
+}
+
+// One ParaView frame: the mesh with displacement and stress, and the markers and springs parts.
+void writeFrame(const Scene& scene, const StressField& stress, const MechanicalState& state,
+                const Eigen::MatrixX3d& markers, PvdSeries& series) {
+  const MechanicalModel& model = scene.model;
+  const TetMesh& mesh = *model.mesh;
+  const Eigen::VectorXd u = state.x - model.restPositions();
+  const Eigen::MatrixX3d U = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+      u.data(), mesh.numNodes(), 3);
+  FieldSet fields;
+  fields.pointVectors.emplace_back("displacement_m", U);
+  fields.pointScalars.emplace_back("displacement_magnitude_m", U.rowwise().norm());
+  fields.cellScalars.emplace_back("von_mises_Pa", stress.vonMises(mesh, model.elasticity, state.x));
+  series.addFrame(state.t, mesh, state.x, fields);
+  if (markers.rows() > 0) series.addPoints("markers", markers);
+  const auto& springs = model.springs.springs();
+  if (!springs.empty()) {
+    const Eigen::Index n = static_cast<Eigen::Index>(springs.size());
+    Eigen::MatrixX3d points(2 * n, 3);
+    Eigen::MatrixX2i segments(n, 2);
+    Eigen::VectorXd tension(n);
+    for (Eigen::Index s = 0; s < n; ++s) {
+      const CubicSpring& spring = springs[s];
+      const Vec3 a = model.springs.attachment(mesh, state.x, s);
+      points.row(2 * s) = a.transpose();
+      points.row(2 * s + 1) = spring.anchor.transpose();
+      segments.row(s) << static_cast<int>(2 * s), static_cast<int>(2 * s + 1);
+      const double dl = (a - spring.anchor).norm() - spring.restLength;
+      tension(s) = CubicSpringSet::magnitude(
+          model.springs.activeCoefficients(spring.group, state.t), dl);
+    }
+    FieldSet springFields;
+    springFields.cellScalars.emplace_back("tension_N", tension);
+    series.addPolyLines("springs", points, segments, springFields);
+  }
+}
+
+struct RunTrace {
+  RunResult result;
+  std::vector<Eigen::MatrixX3d> markerDisplacements;  // one per step, #markers by 3, m
+};
+
+RunTrace runOne(const Scene& scene, const std::string& dir, RunProgress progress,
+                Clock::time_point started, const ProgressCallback& callback) {
+  const Clock::time_point t0 = Clock::now();
+  const MechanicalModel& model = scene.model;
+  const bool statics = scene.integrator == IntegratorKind::Static;
+  RunTrace trace;
+  trace.result.name = scene.name;
+  trace.result.outDir = dir;
+  trace.result.steps = scene.steps;
+
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": cannot create directory (" + ec.message() + ")");
+  MechanicalState state = model.restState();
+  std::unique_ptr<ImplicitEuler> dynamics;
+  std::unique_ptr<StaticSolver> equilibrium;
+  auto solver = makeLinearSolver(scene.solver.type, scene.solver.policy);
+  if (statics)
+    equilibrium = std::make_unique<StaticSolver>(model, std::move(solver), scene.statics);
+  else
+    dynamics = std::make_unique<ImplicitEuler>(model, std::move(solver), scene.implicitEuler);
+
+  const StressField stress(*model.mesh);
+  std::unique_ptr<PvdSeries> series;
+  if (scene.output.pvd) {
+    series = std::make_unique<PvdSeries>(dir, "simulation");
+    writeFrame(scene, stress, state, markerPositions(scene, state.x), *series);
+  }
+  MarkerTrackWriter tracks((std::filesystem::path(dir) / "markers.csv").string());
+  std::ofstream timing = openForWriting((std::filesystem::path(dir) / "timing.csv").string());
+  timing << (statics ? "step,time_s,total_ms,newton_iterations\n"
+                     : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations\n");
+
+  double stepSeconds = 0;
+  for (int step = 1; step <= scene.steps; ++step) {
+    const Clock::time_point s0 = Clock::now();
+    if (statics) {
+      state.t = step * scene.dt();
+      const StaticReport report = equilibrium->solve(model, state.t, state.x);
+      if (!report.converged)
+        throw NumericalError(fmt::format(
+            "{}: static equilibrium not reached at t = {:.6g} s (step {}): residual {:.3g} N after "
+            "{} Newton iterations",
+            scene.sourceFile, state.t, step, report.residualNorm, report.iterations));
+      const double s = secondsSince(s0);
+      stepSeconds += s;
+      timing << fmt::format("{},{:.9g},{:.6g},{}\n", step, state.t, 1e3 * s, report.iterations);
+    } else {
+      dynamics->step(model, state);
+      state.t = step * scene.dt();  // no drift from summing dt over thousands of steps
+      stepSeconds += secondsSince(s0);
+      const StepTimings& tm = dynamics->lastTimings();
+      timing << fmt::format("{},{:.9g},{:.6g},{:.6g},{:.6g},{}\n", step, state.t,
+                            1e3 * tm.assembly, 1e3 * tm.solve, 1e3 * tm.total,
+                            tm.lastSolve.iterations);
+    }
+    const Eigen::MatrixX3d markers = markerPositions(scene, state.x);
+    tracks.write(state.t, markers);
+    trace.markerDisplacements.push_back(markers - scene.markers.rest);
+    if (markers.rows() > 0)
+      trace.result.maxMarkerDisplacement = std::max(
+          trace.result.maxMarkerDisplacement, trace.markerDisplacements.back().rowwise().norm().maxCoeff());
+    if (series && (step % scene.output.every == 0 || step == scene.steps))
+      writeFrame(scene, stress, state, markers, *series);
+
+    progress.step = step;
+    ++progress.stepsDone;
+    progress.elapsedSeconds = secondsSince(started);
+    progress.meanStepMs = 1e3 * stepSeconds / step;
+    if (callback) callback(progress);
+  }
+  timing.flush();
+  if (!timing) throw InputError(dir + "/timing.csv: cannot write file");
+  trace.result.frames = series ? series->numFrames() : 0;
+  trace.result.meanStepMs = 1e3 * stepSeconds / scene.steps;
+  const Eigen::VectorXd u = state.x - model.restPositions();
+  for (Eigen::Index i = 0; i < model.mesh->numNodes(); ++i)
+    trace.result.maxNodeDisplacement =
+        std::max(trace.result.maxNodeDisplacement, u.segment<3>(3 * i).norm());
+  trace.result.wallSeconds = secondsSince(t0);
+  return trace;
+}
+
+// max |a - b| over rows, and max |b| over rows.
+double maxRowDistance(const Eigen::MatrixX3d& a, const Eigen::MatrixX3d& b) {
+  return a.rows() ? (a - b).rowwise().norm().maxCoeff() : 0.0;
+}
+
+double ratio(double num, double den) {
+  if (den > 0) return num / den;
+  return num > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+}
+
+void compareWithBase(const RunTrace& base, RunTrace& run) {
+  const size_t steps = std::min(base.markerDisplacements.size(), run.markerDisplacements.size());
+  if (steps == 0) return;
+  double diffAll = 0, refAll = 0;
+  for (size_t s = 0; s < steps; ++s) {
+    const Eigen::MatrixX3d& ref = base.markerDisplacements[s];
+    diffAll = std::max(diffAll, maxRowDistance(run.markerDisplacements[s], ref));
+    if (ref.rows()) refAll = std::max(refAll, ref.rowwise().norm().maxCoeff());
+  }
+  const Eigen::MatrixX3d& refFinal = base.markerDisplacements[steps - 1];
+  const double refFinalNorm = refFinal.rows() ? refFinal.rowwise().norm().maxCoeff() : 0.0;
+  run.result.relativeDifferenceFinal =
+      ratio(maxRowDistance(run.markerDisplacements[steps - 1], refFinal), refFinalNorm);
+  run.result.relativeDifferenceAll = ratio(diffAll, refAll);
+}
+
+}  // namespace
+
+SimulationResult runSimulation(const Scene& scene, const std::string& outDir,
+                               const ProgressCallback& progress) {
+  const Clock::time_point started = Clock::now();
+  std::vector<const Scene*> scenes = {&scene};
+  for (const Scene& v : scene.variants) scenes.push_back(&v);
+
+  RunProgress p;
+  p.numVariants = static_cast<int>(scenes.size());
+  for (const Scene* s : scenes) p.stepsTotal += s->steps;
+
+  SimulationResult result;
+  RunTrace base;
+  for (size_t i = 0; i < scenes.size(); ++i) {
+    p.variant = scenes[i]->name;
+    p.variantIndex = static_cast<int>(i);
+    p.steps = scenes[i]->steps;
+    p.step = 0;
+    const std::string dir =
+        i == 0 ? outDir : (std::filesystem::path(outDir) / scenes[i]->name).string();
+    RunTrace trace = runOne(*scenes[i], dir, p, started, progress);
+    p.stepsDone += scenes[i]->steps;
+    if (i == 0)
+      base = trace;
+    else
+      compareWithBase(base, trace);
+    result.runs.push_back(trace.result);
+  }
+
+  if (!scene.variants.empty()) {
+    const std::string path = (std::filesystem::path(outDir) / "variants.csv").string();
+    std::ofstream csv = openForWriting(path);
+    csv << "name,max_rel_diff_final,max_rel_diff_all,mean_step_ms,max_marker_displacement_m\n";
+    for (const RunResult& r : result.runs)
+      csv << fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.name, r.relativeDifferenceFinal,
+                         r.relativeDifferenceAll, r.meanStepMs, r.maxMarkerDisplacement);
+    csv.flush();
+    if (!csv) throw InputError(path + ": cannot write file");
+  }
+  result.wallSeconds = secondsSince(started);
+  return result;
+}
+
+}  // namespace bcassim
