@@ -103,4 +103,64 @@ inline void elementForcesAndStiffness(const NeoHookeanMaterial& m, const Mat3& F
   });
 }
 
+namespace detail {
+// Rotation of the polar decomposition F = R S by Higham's scaled Newton iteration, which costs a
+// few 3x3 inverses instead of an SVD. Returns false when F is too close to degenerate (or
+// inverted) for the iteration to be trusted; the caller then uses the SVD-based material.
+inline bool polarRotation(const Mat3& F, Mat3& R) {
+  if (!(F.determinant() > 1e-3 * std::pow(F.squaredNorm() / 3.0, 1.5))) return false;
+  R = F;
+  for (int it = 0; it < 20; ++it) {
+    const double det = R.determinant();
+    const double zeta = it < 3 ? std::pow(std::abs(det), -1.0 / 3.0) : 1.0;
+    const Mat3 next = 0.5 * (zeta * R + R.inverse().transpose() / zeta);
+    const double change = (next - R).squaredNorm();
+    R = next;
+    if (change < 1e-28) return true;
+  }
+  return false;
+}
+
+inline Mat3 crossMatrix(const Vec3& v) {
+  Mat3 m;
+  m << 0, -v(2), v(1), v(2), 0, -v(0), -v(1), v(0), 0;
+  return m;
+}
+}  // namespace detail
+
+// Corotational with its exact tangent: P = 2 mu (F - R) + lambda (tr S - 3) R, and with
+// p_a = R gNa, M = (tr(S) I - S)^-1, c = lambda (tr S - 3) - 2 mu:
+// K_ab = V [2 mu (gNa.gNb) I + lambda p_a p_b^T - c R [gNa]x M [gNb]x R^T]
+// (the last term is the variation of R: R^T dR = [w]x with (tr(S) I - S) w = axial(2 skew(R^T dF))).
+inline void elementForcesAndStiffness(const CorotationalMaterial& m, const Mat3& F,
+                                      const ShapeGradients& G, double V, ElementForces& f,
+                                      Mat12& K) {
+  Mat3 R;
+  if (!detail::polarRotation(F, R)) {
+    elementForcesAndStiffness<CorotationalMaterial>(m, F, G, V, f, K);
+    return;
+  }
+  Mat3 S = R.transpose() * F;
+  S = 0.5 * (S + S.transpose()).eval();
+  const double trS = S.trace();
+  f.noalias() = V * (2.0 * m.mu * (F - R) + (m.lambda * (trS - 3.0)) * R) * G.transpose();
+  Mat3 A = -S;
+  A.diagonal().array() += trS;
+  const Mat3 M = A.inverse();
+  const double c = m.lambda * (trS - 3.0) - 2.0 * m.mu;
+  const Eigen::Matrix<double, 3, 4> p = R * G.transpose();
+  const Eigen::Matrix4d GG = G * G.transpose();
+  Mat3 U[4], W[4];
+  for (int a = 0; a < 4; ++a) {
+    const Mat3 X = detail::crossMatrix(G.row(a).transpose());
+    U[a] = (-c * V) * R * X;
+    W[a] = M * X * R.transpose();
+  }
+  detail::fillSymmetricBlocks(K, [&](int a, int b) {
+    Mat3 Kab = (m.lambda * V) * p.col(a) * p.col(b).transpose() + U[a] * W[b];
+    Kab.diagonal().array() += 2.0 * m.mu * V * GG(a, b);
+    return Kab;
+  });
+}
+
 }  // namespace bcassim
