@@ -67,40 +67,44 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
   for (const char* k : {"radius", "length", "target_nodes"})
     m.rejectUnless(cylinder, k, "generator cylinder");
   for (const char* k : {"size", "cells", "target_tets"}) m.rejectUnless(!cylinder, k, "generator box");
-  app::withContext(src, m.node("generator"), "mesh", [&] {
-    if (cylinder) {
-      *mesh = makeCylinderMesh(m.number("radius", 0.015, "m", Range::Positive),
-                               m.number("length", 0.18, "m", Range::Positive),
-                               m.integer("target_nodes", 915, Range::AtLeastOne));
-      return;
-    }
-    const Vec3 size = m.vec3("size", Vec3(0.15, 0.03, 0.03), "m", Range::Positive);
-    if (m.has("target_tets")) {
-      if (m.has("cells")) m.fail("cells", "expected either cells or target_tets, not both");
-      *mesh = makeBoxMeshWithTargetTets(size, m.integer("target_tets", 0, Range::AtLeastOne));
-      return;
-    }
-    int cells[3] = {20, 4, 4};
-    if (m.has("cells")) {
-      const YAML::Node c = m.node("cells");
-      if (!c.IsSequence() || c.size() != 3)
-        m.fail("cells", "expected a list of 3 integers (hexahedra along x, y, z), got " +
-                            app::describe(c));
-      for (int i = 0; i < 3; ++i)
-        cells[i] = app::parseInteger(src, c[i], indexed("mesh.cells", i), Range::AtLeastOne);
-    }
-    *mesh = makeBoxMesh(size, cells[0], cells[1], cells[2]);
-  });
+  // Parameters are read (and their errors located) first; the generators only add their own.
+  if (cylinder) {
+    const double radius = m.number("radius", 0.015, "m", Range::Positive);
+    const double length = m.number("length", 0.18, "m", Range::Positive);
+    const int nodes = m.integer("target_nodes", 915, Range::AtLeastOne);
+    app::withContext(src, m.node("generator"), "mesh",
+                     [&] { *mesh = makeCylinderMesh(radius, length, nodes); });
+    return mesh;
+  }
+  const Vec3 size = m.vec3("size", Vec3(0.15, 0.03, 0.03), "m", Range::Positive);
+  if (m.has("target_tets")) {
+    if (m.has("cells")) m.fail("cells", "expected either cells or target_tets, not both");
+    const int tets = m.integer("target_tets", 0, Range::AtLeastOne);
+    app::withContext(src, m.node("generator"), "mesh",
+                     [&] { *mesh = makeBoxMeshWithTargetTets(size, tets); });
+    return mesh;
+  }
+  int cells[3] = {20, 4, 4};
+  if (m.has("cells")) {
+    const YAML::Node c = m.node("cells");
+    if (!c.IsSequence() || c.size() != 3)
+      m.fail("cells", "expected a list of 3 integers (hexahedra along x, y, z), got " +
+                          app::describe(c));
+    for (int i = 0; i < 3; ++i)
+      cells[i] = app::parseInteger(src, c[i], indexed("mesh.cells", i), Range::AtLeastOne);
+  }
+  app::withContext(src, m.node("generator"), "mesh",
+                   [&] { *mesh = makeBoxMesh(size, cells[0], cells[1], cells[2]); });
   return mesh;
 }
 
 // One material map; `inList` allows the key region (materials: list).
 Material readMaterial(const YamlSource& src, const YAML::Node& node, const std::string& path,
                       bool inList) {
-  MapReader r(src, node, path,
-              {"region", "model", "young_modulus", "poisson_ratio", "c10", "c01", "kappa", "mu",
-               "alpha"});
-  r.rejectUnless(inList, "region", "entries of a materials: list");
+  std::vector<std::string> keys = {"model", "young_modulus", "poisson_ratio", "c10",
+                                   "c01",   "kappa",         "mu",            "alpha"};
+  if (inList) keys.insert(keys.begin(), "region");
+  MapReader r(src, node, path, keys);
   const std::string model =
       r.choice("model", "stvk",
                {"linear", "corotational", "stvk", "neohookean", "mooneyrivlin", "ogden"});
@@ -416,7 +420,7 @@ std::vector<ControlPointSet> readControls(const YamlSource& src, const MapReader
   return controls;
 }
 
-const std::initializer_list<const char*> kSceneKeys = {
+const std::vector<std::string> kSceneKeys = {
     "mesh",   "material", "materials", "density", "mass",           "gravity",
     "damping", "time",    "integrator", "solver", "fixed",          "loads",
     "springs", "control_points", "markers", "output", "variants"};
@@ -536,11 +540,11 @@ Scene loadFromText(const std::string& yaml, const YamlSource& src) {
       const std::string key = kv.first.Scalar();
       if (key == "name") continue;
       bool known = false;
-      for (const char* k : kSceneKeys) known = known || (key == k && key != "variants");
+      for (const std::string& k : kSceneKeys) known = known || (key == k && key != "variants");
       if (!known) {
         std::string list = "name";
-        for (const char* k : kSceneKeys)
-          if (std::string(k) != "variants") list += std::string(", ") + k;
+        for (const std::string& k : kSceneKeys)
+          if (k != "variants") list += ", " + k;
         failAt(src, kv.first, "", "unknown key '" + key + "' in " + path + "; expected one of " + list);
       }
       overrides[key] = kv.second;

@@ -142,11 +142,13 @@ std::vector<YAML::Node> listElements(const YamlSource& source, const YAML::Node&
 std::string resolvePath(const std::string& directory, const std::string& path) {
   std::filesystem::path p(path);
   if (p.is_relative()) p = std::filesystem::path(directory) / p;
-  return p.lexically_normal().string();
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(p, ec);
+  return (ec ? p : absolute).lexically_normal().string();
 }
 
 MapReader::MapReader(const YamlSource& source, const YAML::Node& node, std::string path,
-                     std::initializer_list<const char*> allowed)
+                     const std::vector<std::string>& allowed)
     // A missing key gives an "invalid" yaml-cpp node whose type queries (and assignment) throw;
     // a plain undefined node answers them.
     : source_(source),
@@ -160,10 +162,10 @@ MapReader::MapReader(const YamlSource& source, const YAML::Node& node, std::stri
     const YAML::Node& keyNode = kv.first;
     const std::string key = keyNode.IsScalar() ? keyNode.Scalar() : describe(keyNode);
     bool known = false;
-    for (const char* a : allowed) known = known || key == a;
+    for (const std::string& a : allowed) known = known || key == a;
     if (!known) {
       std::string list;
-      for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
       failAt(source_, keyNode, "",
              "unknown key '" + oneLine(key) + "' in " + (path_.empty() ? "scene" : path_) +
                  "; expected one of " + list);

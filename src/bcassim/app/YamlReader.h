@@ -5,7 +5,6 @@
 
 #include <array>
 #include <functional>
-#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -47,7 +46,7 @@ class MapReader {
   // `node` may be undefined or null (a section left out or left empty): every key is then missing.
   // `path` names the map in messages ("material", "fixed[0]"); empty for the top level.
   MapReader(const YamlSource& source, const YAML::Node& node, std::string path,
-            std::initializer_list<const char*> allowed);
+            const std::vector<std::string>& allowed);
 
   bool has(const std::string& key) const;
   // The raw value (undefined when missing).
