@@ -57,7 +57,9 @@ void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
 
   t0 = Clock::now();
   solver_->setMatrix(A_);
-  dv_ = Eigen::VectorXd::Zero(rhs_.size());
+  // The previous step's velocity change is a good initial guess for iterative solvers: motion
+  // is smooth over one camera frame.
+  if (dv_.size() != rhs_.size()) dv_ = Eigen::VectorXd::Zero(rhs_.size());
   timings_.lastSolve = solver_->solve(rhs_, dv_);
   ++timings_.linearSolves;
   timings_.solve += seconds(t0, Clock::now());
