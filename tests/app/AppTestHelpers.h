@@ -21,8 +21,8 @@ inline std::filesystem::path processTempRoot() {
 // A directory unique to the running test, emptied at creation.
 inline std::filesystem::path freshDir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::filesystem::path dir = processTempRoot() / (std::string(info->test_suite_name()) +
-                                                         "_" + info->name());
+  const std::filesystem::path dir =
+      processTempRoot() / (std::string(info->test_suite_name()) + "_" + info->name());
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
@@ -58,8 +58,8 @@ struct CliResult {
 
 // Runs `bcassim <args>` from `dir` (args are passed through the shell as written).
 inline CliResult runBcassim(const std::filesystem::path& dir, const std::string& args) {
-  const std::string cmd = "cd '" + dir.string() + "' && '" + BCASSIM_BINARY + "' " + args +
-                          " > cli.out 2> cli.err";
+  const std::string cmd =
+      "cd '" + dir.string() + "' && '" + BCASSIM_BINARY + "' " + args + " > cli.out 2> cli.err";
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -55,8 +55,9 @@ TEST(Cli, NonPositiveTimeStep) {
 }
 
 TEST(Cli, RegionSelectingNothing) {
-  expectInputError(std::string(kMesh) + "fixed:\n  - region:\n      sphere: {center: [1, 1, 1], "
-                                        "radius: 0.01}\n",
+  expectInputError(std::string(kMesh) +
+                       "fixed:\n  - region:\n      sphere: {center: [1, 1, 1], "
+                       "radius: 0.01}\n",
                    "scene.yaml:4: fixed[0].region: selects no node of the mesh");
 }
 
@@ -72,12 +73,12 @@ TEST(Cli, PoissonRatioOutOfRange) {
 
 TEST(Cli, FailedRunIsANumericalErrorWithExitCode3) {
   // One Newton iteration cannot balance a load that bends the beam a lot.
-  const test::CliResult r = simulateScene(
-      std::string(kMesh) +
-      "integrator: {type: static, max_iterations: 1}\ntime: {dt: 1, steps: 1}\n"
-      "fixed:\n  - region: {box: {min: [-1, -1, -1], max: [0.0001, 1, 1]}}\n"
-      "loads:\n  - region: {box: {min: [0.0999, -1, -1], max: [1, 1, 1]}}\n"
-      "    total_force: [0, 0, 0.5]\n");
+  const test::CliResult r =
+      simulateScene(std::string(kMesh) +
+                    "integrator: {type: static, max_iterations: 1}\ntime: {dt: 1, steps: 1}\n"
+                    "fixed:\n  - region: {box: {min: [-1, -1, -1], max: [0.0001, 1, 1]}}\n"
+                    "loads:\n  - region: {box: {min: [0.0999, -1, -1], max: [1, 1, 1]}}\n"
+                    "    total_force: [0, 0, 0.5]\n");
   EXPECT_EQ(r.exitCode, 3);
   EXPECT_EQ(test::countLines(r.err), 1);
   EXPECT_EQ(r.err.rfind("bcassim: error: scene.yaml: static equilibrium not reached at t = 1 s", 0),
@@ -102,9 +103,9 @@ TEST(Cli, BadArgumentsAreOneLineInputErrors) {
 
 TEST(Cli, SimulateWritesOutputsAndSummary) {
   const auto dir = freshDir();
-  writeText(dir / "scene.yaml",
-            std::string(kMesh) + "time: {steps: 4}\nfixed:\n  - region: {nodes: [0, 5]}\n"
-                                 "markers:\n  - points: [[0.1, 0.02, 0.02]]\n");
+  writeText(dir / "scene.yaml", std::string(kMesh) +
+                                    "time: {steps: 4}\nfixed:\n  - region: {nodes: [0, 5]}\n"
+                                    "markers:\n  - points: [[0.1, 0.02, 0.02]]\n");
   const test::CliResult r = runBcassim(dir, "simulate scene.yaml --out results");
   EXPECT_EQ(r.exitCode, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(dir / "results" / "simulation.pvd"));

@@ -50,7 +50,8 @@ TEST(SceneLoader, DefaultsFillEverythingButTheMesh) {
 }
 
 TEST(SceneLoader, CylinderGeneratorHitsTheNodeTarget) {
-  const Scene s = load("mesh: {generator: cylinder, radius: 0.015, length: 0.18, target_nodes: 300}");
+  const Scene s =
+      load("mesh: {generator: cylinder, radius: 0.015, length: 0.18, target_nodes: 300}");
   EXPECT_NEAR(static_cast<double>(s.model.mesh->numNodes()), 300.0, 30.0);
   EXPECT_NEAR(s.model.mesh->V.col(2).maxCoeff(), 0.18, 1e-12);
 }
@@ -215,7 +216,8 @@ TEST(SceneLoader, ErrorsNameLineKeyAndExpectation) {
   const std::string b = kBox;
   EXPECT_EQ(errorOf(b + "time: {dt: 0.01, step: 3}"),
             "scene.yaml:2: unknown key 'step' in time; expected one of dt, steps");
-  EXPECT_EQ(errorOf(b + "time: {steps: 2.5}"), "scene.yaml:2: time.steps: expected an integer, got '2.5'");
+  EXPECT_EQ(errorOf(b + "time: {steps: 2.5}"),
+            "scene.yaml:2: time.steps: expected an integer, got '2.5'");
   EXPECT_EQ(errorOf(b + "time: {dt: .inf}"),
             "scene.yaml:2: time.dt: expected a number in seconds (finite), got '.inf'");
   EXPECT_EQ(errorOf(b + "gravity: [0, 0]"),
@@ -224,8 +226,10 @@ TEST(SceneLoader, ErrorsNameLineKeyAndExpectation) {
             "scene.yaml:2: mass: expected one of lumped, consistent, got 'heavy'");
   EXPECT_EQ(errorOf(b + "solver: {type: cholmod, tolerance: 1e-6}"),
             "scene.yaml:2: solver.tolerance: only for iterative solvers");
-  EXPECT_EQ(errorOf(b + "fixed:\n  - region: {box: {min: [0,0,0], max: [1,1,1]}}\n    components: [x, w]"),
-            "scene.yaml:4: fixed[0].components[1]: expected one of x, y, z, got 'w'");
+  EXPECT_EQ(
+      errorOf(b +
+              "fixed:\n  - region: {box: {min: [0,0,0], max: [1,1,1]}}\n    components: [x, w]"),
+      "scene.yaml:4: fixed[0].components[1]: expected one of x, y, z, got 'w'");
   EXPECT_EQ(errorOf(b + "loads:\n  - region: {cube: 1}"),
             "scene.yaml:3: unknown key 'cube' in loads[0].region; expected one of box, sphere, "
             "half_space, nodes, surface_patch");
@@ -240,14 +244,16 @@ TEST(SceneLoader, ErrorsNameLineKeyAndExpectation) {
             "scene.yaml:2: material.c10: only for model mooneyrivlin");
   EXPECT_EQ(errorOf("mesh: {generator: box, cells: [1, 1, 1]}\nmarkers:\n  - {count: 3}"),
             "scene.yaml:3: markers[0]: expected exactly one of region, points, file");
-  EXPECT_EQ(errorOf("material: {}"), "scene.yaml:1: missing section 'mesh' (a generator or a file)");
+  EXPECT_EQ(errorOf("material: {}"),
+            "scene.yaml:1: missing section 'mesh' (a generator or a file)");
   EXPECT_EQ(errorOf(b + "control_points:\n  - region: {nodes: [0]}\n    trajectory: none.csv"),
             "scene.yaml:4: control_points[0].trajectory: cannot open '" +
                 std::filesystem::absolute("none.csv").lexically_normal().string() + "'");
   EXPECT_EQ(errorOf(b + "markers: [{points: [[0,0,0]]}]\nvariants:\n  - {name: base}"),
             "scene.yaml:4: variants[0].name: name 'base' is used twice");
-  EXPECT_EQ(errorOf(b + "markers: [{points: [[0,0,0]]}]\nvariants:\n  - {name: v, time: {steps: 3}}"),
-            "scene.yaml:4: variants[0]: a variant must keep the base's time.dt and time.steps");
+  EXPECT_EQ(
+      errorOf(b + "markers: [{points: [[0,0,0]]}]\nvariants:\n  - {name: v, time: {steps: 3}}"),
+      "scene.yaml:4: variants[0]: a variant must keep the base's time.dt and time.steps");
 }
 
 }  // namespace

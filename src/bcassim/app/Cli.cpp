@@ -48,7 +48,8 @@ int simulate(const std::string& scenePath, const std::string& outDir, bool quiet
              scenePath, mesh.numNodes(), mesh.numTets(), scene.markers.points.size(),
              scene.model.springs.springs().size(), scene.steps, scene.dt(),
              scene.variants.empty() ? ""
-                                    : fmt::format(", {} variants", scene.variants.size()));
+                                    : fmt::format(", {} variant{}", scene.variants.size(),
+                                                  scene.variants.size() == 1 ? "" : "s"));
   std::fflush(stdout);
   ProgressBar bar(stderr);
   ProgressCallback progress;
@@ -57,10 +58,11 @@ int simulate(const std::string& scenePath, const std::string& outDir, bool quiet
   bar.finish();
 
   for (const RunResult& r : result.runs)
-    fmt::print("{}: {} steps, {:.3g} ms/step, {:.3g} s in all, {} frames, max displacement "
-               "{:.4g} mm (markers {:.4g} mm) -> {}\n",
-               r.name, r.steps, r.meanStepMs, r.wallSeconds, r.frames,
-               1e3 * r.maxNodeDisplacement, 1e3 * r.maxMarkerDisplacement, r.outDir);
+    fmt::print(
+        "{}: {} steps, {:.3g} ms/step, {:.3g} s in all, {} frames, max displacement "
+        "{:.4g} mm (markers {:.4g} mm) -> {}\n",
+        r.name, r.steps, r.meanStepMs, r.wallSeconds, r.frames, 1e3 * r.maxNodeDisplacement,
+        1e3 * r.maxMarkerDisplacement, r.outDir);
   if (result.runs.size() > 1) {
     fmt::print("\n{:<20} {:>16} {:>16} {:>12}\n", "variant", "rel.diff final", "rel.diff all",
                "ms/step");
@@ -68,8 +70,7 @@ int simulate(const std::string& scenePath, const std::string& outDir, bool quiet
       fmt::print("{:<20} {:>15.3f}% {:>15.3f}% {:>12.3g}\n", r.name,
                  100 * r.relativeDifferenceFinal, 100 * r.relativeDifferenceAll, r.meanStepMs);
     fmt::print("(relative to the largest marker displacement of '{}'; table in {})\n",
-               result.runs.front().name,
-               (std::filesystem::path(outDir) / "variants.csv").string());
+               result.runs.front().name, (std::filesystem::path(outDir) / "variants.csv").string());
   }
   return 0;
 }

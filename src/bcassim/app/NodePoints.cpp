@@ -37,7 +37,8 @@ std::vector<int> farthestPointSample(const TetMesh& mesh, const std::vector<int>
   centroid /= static_cast<double>(n);
   // dist[i]: squared distance of nodes[i] to the nearest taken node (to the centroid at first).
   std::vector<double> dist(n);
-  for (size_t i = 0; i < n; ++i) dist[i] = (mesh.V.row(nodes[i]).transpose() - centroid).squaredNorm();
+  for (size_t i = 0; i < n; ++i)
+    dist[i] = (mesh.V.row(nodes[i]).transpose() - centroid).squaredNorm();
   while (taken.size() < want) {
     size_t best = 0;
     for (size_t i = 1; i < n; ++i)

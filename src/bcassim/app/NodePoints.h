@@ -18,7 +18,6 @@ MappedPoint mappedNode(const TetMesh& mesh, const std::vector<int>& tetOfNode, i
 // `count` nodes of `nodes` spread over them: the first is the one farthest from their centroid,
 // each next one the farthest from those already taken (rest positions). Deterministic; returns
 // all of `nodes` when count >= nodes.size(), in the order taken.
-std::vector<int> farthestPointSample(const TetMesh& mesh, const std::vector<int>& nodes,
-                                     int count);
+std::vector<int> farthestPointSample(const TetMesh& mesh, const std::vector<int>& nodes, int count);
 
 }  // namespace bcassim

@@ -37,9 +37,9 @@ void ProgressBar::update(const RunProgress& p) {
   lastDecile_ = decile;
   const int filled = static_cast<int>(kWidth * fraction);
   const double eta = fraction > 0 ? p.elapsedSeconds * (1 - fraction) / fraction : 0.0;
-  std::string line = fmt::format("[{}{}] {:3.0f}% step {}/{}", std::string(filled, '#'),
-                                 std::string(kWidth - filled, '.'), 100 * fraction, p.step,
-                                 p.steps);
+  std::string line =
+      fmt::format("[{}{}] {:3.0f}% step {}/{}", std::string(filled, '#'),
+                  std::string(kWidth - filled, '.'), 100 * fraction, p.step, p.steps);
   if (p.numVariants > 1)
     line += fmt::format(" ({} {}/{})", p.variant, p.variantIndex + 1, p.numVariants);
   line += fmt::format("  elapsed {}  ETA {}  {:.3g} ms/step", clock(p.elapsedSeconds), clock(eta),

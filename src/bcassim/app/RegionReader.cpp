@@ -47,8 +47,8 @@ Region parseRegion(const YamlSource& source, const YAML::Node& node, const std::
     IndexListRegion list;
     const auto elements = listElements(source, r.node("nodes"), r.pathOf("nodes"));
     for (size_t i = 0; i < elements.size(); ++i)
-      list.indices.push_back(parseInteger(source, elements[i],
-                                          r.pathOf("nodes") + "[" + std::to_string(i) + "]"));
+      list.indices.push_back(
+          parseInteger(source, elements[i], r.pathOf("nodes") + "[" + std::to_string(i) + "]"));
     return list;
   }
   MapReader p(source, r.node("surface_patch"), r.pathOf("surface_patch"),

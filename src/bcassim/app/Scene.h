@@ -27,8 +27,8 @@ struct MarkerSet {
 };
 
 struct OutputSettings {
-  int every = 10;     // steps between ParaView frames (the first and last step are always written)
-  bool pvd = true;    // write the .pvd series (mesh, markers, springs)
+  int every = 10;   // steps between ParaView frames (the first and last step are always written)
+  bool pvd = true;  // write the .pvd series (mesh, markers, springs)
 };
 
 struct Scene {

@@ -36,7 +36,7 @@ std::string indexed(const std::string& path, size_t i) {
 // Scene defaults, documented in docs/scene-format.md.
 constexpr double kDefaultYoungModulus = 8000.0;  // Pa, thesis cylinder
 constexpr double kDefaultPoissonRatio = 0.49;
-constexpr double kDefaultSpringLength = 0.03;    // m, thesis ligament springs
+constexpr double kDefaultSpringLength = 0.03;  // m, thesis ligament springs
 const CubicSpringCoefficients kDefaultSpringCoefficients{4.0, 7.0, 20.0};  // thesis cylinder truth
 
 std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& top) {
@@ -53,8 +53,7 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
     const std::string path = m.existingFile("file");
     const std::string field = m.text("region_field", "");
     const double scale = m.number("scale", 1.0, "m per file unit", Range::Positive);
-    app::withContext(src, m.node("file"), "mesh.file",
-                     [&] { *mesh = readTetMesh(path, field); });
+    app::withContext(src, m.node("file"), "mesh.file", [&] { *mesh = readTetMesh(path, field); });
     mesh->V *= scale;
     return mesh;
   }
@@ -66,7 +65,8 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
   const bool cylinder = generator == "cylinder";
   for (const char* k : {"radius", "length", "target_nodes"})
     m.rejectUnless(cylinder, k, "generator cylinder");
-  for (const char* k : {"size", "cells", "target_tets"}) m.rejectUnless(!cylinder, k, "generator box");
+  for (const char* k : {"size", "cells", "target_tets"})
+    m.rejectUnless(!cylinder, k, "generator box");
   // Parameters are read (and their errors located) first; the generators only add their own.
   if (cylinder) {
     const double radius = m.number("radius", 0.015, "m", Range::Positive);
@@ -88,8 +88,8 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
   if (m.has("cells")) {
     const YAML::Node c = m.node("cells");
     if (!c.IsSequence() || c.size() != 3)
-      m.fail("cells", "expected a list of 3 integers (hexahedra along x, y, z), got " +
-                          app::describe(c));
+      m.fail("cells",
+             "expected a list of 3 integers (hexahedra along x, y, z), got " + app::describe(c));
     for (int i = 0; i < 3; ++i)
       cells[i] = app::parseInteger(src, c[i], indexed("mesh.cells", i), Range::AtLeastOne);
   }
@@ -101,18 +101,18 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
 // One material map; `inList` allows the key region (materials: list).
 Material readMaterial(const YamlSource& src, const YAML::Node& node, const std::string& path,
                       bool inList) {
-  std::vector<std::string> keys = {"model", "young_modulus", "poisson_ratio", "c10",
-                                   "c01",   "kappa",         "mu",            "alpha"};
+  std::vector<std::string> keys = {"model", "young_modulus", "poisson_ratio", "c10", "c01", "kappa",
+                                   "mu",    "alpha"};
   if (inList) keys.insert(keys.begin(), "region");
   MapReader r(src, node, path, keys);
-  const std::string model =
-      r.choice("model", "stvk",
-               {"linear", "corotational", "stvk", "neohookean", "mooneyrivlin", "ogden"});
+  const std::string model = r.choice(
+      "model", "stvk", {"linear", "corotational", "stvk", "neohookean", "mooneyrivlin", "ogden"});
   const double E = r.number("young_modulus", kDefaultYoungModulus, "Pa", Range::Positive);
   const double nu = r.number("poisson_ratio", kDefaultPoissonRatio, "-");
-  if (!(nu > -1.0 && nu < 0.5)) r.fail("poisson_ratio", "must be in (-1, 0.5), got " +
-                                                            r.node("poisson_ratio").Scalar());
-  for (const char* k : {"c10", "c01"}) r.rejectUnless(model == "mooneyrivlin", k, "model mooneyrivlin");
+  if (!(nu > -1.0 && nu < 0.5))
+    r.fail("poisson_ratio", "must be in (-1, 0.5), got " + r.node("poisson_ratio").Scalar());
+  for (const char* k : {"c10", "c01"})
+    r.rejectUnless(model == "mooneyrivlin", k, "model mooneyrivlin");
   for (const char* k : {"mu", "alpha"}) r.rejectUnless(model == "ogden", k, "model ogden");
   r.rejectUnless(model == "mooneyrivlin" || model == "ogden", "kappa",
                  "models mooneyrivlin and ogden");
@@ -140,11 +140,13 @@ std::vector<Material> readMaterials(const YamlSource& src, const MapReader& top,
   const auto entries = listElements(src, top.node("materials"), "materials");
   for (size_t i = 0; i < entries.size(); ++i) {
     const std::string path = indexed("materials", i);
-    MapReader e(src, entries[i], path, {"region", "model", "young_modulus", "poisson_ratio", "c10",
-                                        "c01", "kappa", "mu", "alpha"});
+    MapReader e(src, entries[i], path,
+                {"region", "model", "young_modulus", "poisson_ratio", "c10", "c01", "kappa", "mu",
+                 "alpha"});
     if (!e.has("region")) failAt(src, entries[i], path, "missing key 'region' (mesh region id)");
     const int region = e.integer("region", 0);
-    if (byRegion.count(region)) e.fail("region", "region " + std::to_string(region) + " given twice");
+    if (byRegion.count(region))
+      e.fail("region", "region " + std::to_string(region) + " given twice");
     byRegion.emplace(region, readMaterial(src, entries[i], path, true));
   }
   if (byRegion.empty()) top.fail("materials", "expected at least one material");
@@ -165,8 +167,10 @@ std::vector<Material> readMaterials(const YamlSource& src, const MapReader& top,
 TimeProfile readProfile(const YamlSource& src, const YAML::Node& node, const std::string& path) {
   MapReader r(src, node, path, {"kind", "period", "phase"});
   static const std::vector<std::pair<std::string, TimeProfile::Kind>> kinds = {
-      {"constant", TimeProfile::Kind::Constant}, {"sine", TimeProfile::Kind::Sine},
-      {"square", TimeProfile::Kind::Square},     {"pulse", TimeProfile::Kind::Pulse},
+      {"constant", TimeProfile::Kind::Constant},
+      {"sine", TimeProfile::Kind::Sine},
+      {"square", TimeProfile::Kind::Square},
+      {"pulse", TimeProfile::Kind::Pulse},
       {"ramp", TimeProfile::Kind::Ramp}};
   std::vector<std::string> names;
   for (const auto& k : kinds) names.push_back(k.first);
@@ -212,8 +216,7 @@ DirichletConditions readFixed(const YamlSource& src, const MapReader& top,
   return DirichletConditions(std::move(regions), *model.pattern);
 }
 
-std::vector<NodalLoad> readLoads(const YamlSource& src, const MapReader& top,
-                                 const TetMesh& mesh) {
+std::vector<NodalLoad> readLoads(const YamlSource& src, const MapReader& top, const TetMesh& mesh) {
   std::vector<NodalLoad> loads;
   const auto entries = listElements(src, top.node("loads"), "loads");
   for (size_t i = 0; i < entries.size(); ++i) {
@@ -280,8 +283,8 @@ CubicSpringSet readSprings(const YamlSource& src, const MapReader& top, const Te
         const Vec3 normal = boundary.vertexNormals.row(n).transpose();
         if (normal.squaredNorm() == 0) continue;  // interior node: no outward direction
         const MappedPoint mp = mappedNode(mesh, tetOf, n);
-        springs.push_back({mp.tet, mp.weights, mesh.V.row(n).transpose() + length * normal,
-                           length, group});
+        springs.push_back(
+            {mp.tet, mp.weights, mesh.V.row(n).transpose() + length * normal, length, group});
       }
       if (springs.size() == before)
         failAt(src, r.node("region"), r.pathOf("region"),
@@ -298,7 +301,8 @@ CubicSpringSet readSprings(const YamlSource& src, const MapReader& top, const Te
 Eigen::MatrixX3d readPointList(const YamlSource& src, const YAML::Node& node,
                                const std::string& path) {
   const auto rows = listElements(src, node, path);
-  if (rows.empty()) failAt(src, node, path, "expected a non-empty list of [x, y, z] points in metres");
+  if (rows.empty())
+    failAt(src, node, path, "expected a non-empty list of [x, y, z] points in metres");
   Eigen::MatrixX3d P(rows.size(), 3);
   for (size_t i = 0; i < rows.size(); ++i)
     P.row(i) = app::parseVec3(src, rows[i], indexed(path, i), "m").transpose();
@@ -307,7 +311,7 @@ Eigen::MatrixX3d readPointList(const YamlSource& src, const YAML::Node& node,
 
 // Mapped points and their rest positions from a region (nodes), a point list or a point file.
 MarkerSet readMappedPoints(const YamlSource& src, const MapReader& r, const std::string& path,
-                     const TetMesh& mesh, bool allowFile, int count) {
+                           const TetMesh& mesh, bool allowFile, int count) {
   MarkerSet set;
   Eigen::MatrixX3d P;
   if (r.has("region")) {
@@ -345,12 +349,14 @@ MarkerSet readMarkers(const YamlSource& src, const MapReader& top, const TetMesh
   Eigen::Index total = 0;
   for (size_t i = 0; i < entries.size(); ++i) {
     MapReader r(src, entries[i], indexed("markers", i), {"region", "count", "points", "file"});
-    const int given = (r.has("region") ? 1 : 0) + (r.has("points") ? 1 : 0) + (r.has("file") ? 1 : 0);
+    const int given =
+        (r.has("region") ? 1 : 0) + (r.has("points") ? 1 : 0) + (r.has("file") ? 1 : 0);
     if (given != 1)
       failAt(src, entries[i], indexed("markers", i),
              "expected exactly one of region, points, file");
     r.rejectUnless(r.has("region"), "count", "markers given by a region");
-    parts.push_back(readMappedPoints(src, r, indexed("markers", i), mesh, true, r.integer("count", 0)));
+    parts.push_back(
+        readMappedPoints(src, r, indexed("markers", i), mesh, true, r.integer("count", 0)));
     total += parts.back().rest.rows();
   }
   all.rest.resize(total, 3);
@@ -387,9 +393,8 @@ void readTrajectory(const std::string& path, std::vector<double>& times, Eigen::
   for (Eigen::Index i = 0; i < table.rows.rows(); ++i) {
     times.push_back(table.rows(i, cols[0]));
     if (i > 0 && !(times[i] > times[i - 1]))
-      throw InputError(path + ":" + std::to_string(table.lines[i]) +
-                       ": times must increase, got " + std::to_string(times[i]) + " after " +
-                       std::to_string(times[i - 1]));
+      throw InputError(path + ":" + std::to_string(table.lines[i]) + ": times must increase, got " +
+                       std::to_string(times[i]) + " after " + std::to_string(times[i - 1]));
     for (int c = 0; c < 3; ++c) d(i, c) = table.rows(i, cols[c + 1]);
   }
 }
@@ -404,8 +409,9 @@ std::vector<ControlPointSet> readControls(const YamlSource& src, const MapReader
     if (r.has("region") == r.has("points"))
       failAt(src, entries[i], path, "expected exactly one of region, points");
     MarkerSet points = readMappedPoints(src, r, path, mesh, false, 0);
-    if (!r.has("trajectory")) failAt(src, entries[i], r.pathOf("trajectory"),
-                                     "missing (CSV file time,dx,dy,dz in s and m)");
+    if (!r.has("trajectory"))
+      failAt(src, entries[i], r.pathOf("trajectory"),
+             "missing (CSV file time,dx,dy,dz in s and m)");
     const std::string csv = r.existingFile("trajectory");
     std::vector<double> times;
     Eigen::MatrixX3d d;
@@ -421,9 +427,9 @@ std::vector<ControlPointSet> readControls(const YamlSource& src, const MapReader
 }
 
 const std::vector<std::string> kSceneKeys = {
-    "mesh",   "material", "materials", "density", "mass",           "gravity",
-    "damping", "time",    "integrator", "solver", "fixed",          "loads",
-    "springs", "control_points", "markers", "output", "variants"};
+    "mesh",    "material",       "materials",  "density", "mass",    "gravity",
+    "damping", "time",           "integrator", "solver",  "fixed",   "loads",
+    "springs", "control_points", "markers",    "output",  "variants"};
 
 Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVariants) {
   if (!root.IsDefined() || root.IsNull())
@@ -434,9 +440,9 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   std::shared_ptr<const TetMesh> mesh = readMesh(src, top);
   std::vector<Material> materials = readMaterials(src, top, *mesh);
   const double density = top.number("density", 1000.0, "kg/m^3", Range::Positive);
-  const MassKind mass =
-      top.choice("mass", "lumped", {"lumped", "consistent"}) == "lumped" ? MassKind::Lumped
-                                                                         : MassKind::Consistent;
+  const MassKind mass = top.choice("mass", "lumped", {"lumped", "consistent"}) == "lumped"
+                            ? MassKind::Lumped
+                            : MassKind::Consistent;
   Scene scene(makeMechanicalModel(mesh, std::move(materials), density, mass));
   scene.sourceFile = src.file;
   MechanicalModel& model = scene.model;
@@ -451,7 +457,8 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
 
   MapReader integ(src, top.node("integrator"), "integrator",
                   {"type", "newton_iterations", "tolerance", "max_iterations", "load_steps"});
-  const bool statics = integ.choice("type", "implicit-euler", {"implicit-euler", "static"}) == "static";
+  const bool statics =
+      integ.choice("type", "implicit-euler", {"implicit-euler", "static"}) == "static";
   scene.integrator = statics ? IntegratorKind::Static : IntegratorKind::ImplicitEuler;
   integ.rejectUnless(!statics, "newton_iterations", "type implicit-euler");
   integ.rejectUnless(statics, "max_iterations", "type static");
@@ -519,15 +526,17 @@ Scene loadFromText(const std::string& yaml, const YamlSource& src) {
   for (size_t i = 0; i < variants.size(); ++i) {
     const std::string path = indexed("variants", i);
     const YAML::Node& node = variants[i];
-    if (!node.IsMap()) failAt(src, node, path, "expected a map with a name and scene keys, got " +
-                                                   app::describe(node));
-    if (!node["name"].IsDefined()) failAt(src, node, path + ".name", "missing (the variant's name)");
+    if (!node.IsMap())
+      failAt(src, node, path,
+             "expected a map with a name and scene keys, got " + app::describe(node));
+    if (!node["name"].IsDefined())
+      failAt(src, node, path + ".name", "missing (the variant's name)");
     const YAML::Node nameNode = node["name"];
     const std::string name = nameNode.IsScalar() ? nameNode.Scalar() : "";
     // The name becomes an output directory: keep it to characters safe in any file system.
-    const bool wellFormed =
-        !name.empty() && name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUV"
-                                                "WXYZ0123456789_-") == std::string::npos;
+    const bool wellFormed = !name.empty() && name.find_first_not_of(
+                                                 "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUV"
+                                                 "WXYZ0123456789_-") == std::string::npos;
     if (!wellFormed)
       failAt(src, nameNode, path + ".name",
              "expected a name of letters, digits, '_', '-', got " + app::describe(nameNode));
@@ -545,7 +554,8 @@ Scene loadFromText(const std::string& yaml, const YamlSource& src) {
         std::string list = "name";
         for (const std::string& k : kSceneKeys)
           if (k != "variants") list += ", " + k;
-        failAt(src, kv.first, "", "unknown key '" + key + "' in " + path + "; expected one of " + list);
+        failAt(src, kv.first, "",
+               "unknown key '" + key + "' in " + path + "; expected one of " + list);
       }
       overrides[key] = kv.second;
     }

@@ -45,8 +45,9 @@ void writeFrame(const Scene& scene, const StressField& stress, const MechanicalS
   const MechanicalModel& model = scene.model;
   const TetMesh& mesh = *model.mesh;
   const Eigen::VectorXd u = state.x - model.restPositions();
-  const Eigen::MatrixX3d U = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-      u.data(), mesh.numNodes(), 3);
+  const Eigen::MatrixX3d U =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+          u.data(), mesh.numNodes(), 3);
   FieldSet fields;
   fields.pointVectors.emplace_back("displacement_m", U);
   fields.pointScalars.emplace_back("displacement_magnitude_m", U.rowwise().norm());
@@ -66,8 +67,8 @@ void writeFrame(const Scene& scene, const StressField& stress, const MechanicalS
       points.row(2 * s + 1) = spring.anchor.transpose();
       segments.row(s) << static_cast<int>(2 * s), static_cast<int>(2 * s + 1);
       const double dl = (a - spring.anchor).norm() - spring.restLength;
-      tension(s) = CubicSpringSet::magnitude(
-          model.springs.activeCoefficients(spring.group, state.t), dl);
+      tension(s) =
+          CubicSpringSet::magnitude(model.springs.activeCoefficients(spring.group, state.t), dl);
     }
     FieldSet springFields;
     springFields.cellScalars.emplace_back("tension_N", tension);
@@ -113,6 +114,7 @@ RunTrace runOne(const Scene& scene, const std::string& dir, RunProgress progress
   timing << (statics ? "step,time_s,total_ms,newton_iterations\n"
                      : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations\n");
 
+  const Eigen::VectorXd rest = model.restPositions();
   double stepSeconds = 0;
   for (int step = 1; step <= scene.steps; ++step) {
     const Clock::time_point s0 = Clock::now();
@@ -132,16 +134,20 @@ RunTrace runOne(const Scene& scene, const std::string& dir, RunProgress progress
       state.t = step * scene.dt();  // no drift from summing dt over thousands of steps
       stepSeconds += secondsSince(s0);
       const StepTimings& tm = dynamics->lastTimings();
-      timing << fmt::format("{},{:.9g},{:.6g},{:.6g},{:.6g},{}\n", step, state.t,
-                            1e3 * tm.assembly, 1e3 * tm.solve, 1e3 * tm.total,
-                            tm.lastSolve.iterations);
+      timing << fmt::format("{},{:.9g},{:.6g},{:.6g},{:.6g},{}\n", step, state.t, 1e3 * tm.assembly,
+                            1e3 * tm.solve, 1e3 * tm.total, tm.lastSolve.iterations);
     }
+    for (Eigen::Index i = 0; i < model.mesh->numNodes(); ++i)
+      trace.result.maxNodeDisplacement =
+          std::max(trace.result.maxNodeDisplacement,
+                   (state.x.segment<3>(3 * i) - rest.segment<3>(3 * i)).norm());
     const Eigen::MatrixX3d markers = markerPositions(scene, state.x);
     tracks.write(state.t, markers);
     trace.markerDisplacements.push_back(markers - scene.markers.rest);
     if (markers.rows() > 0)
-      trace.result.maxMarkerDisplacement = std::max(
-          trace.result.maxMarkerDisplacement, trace.markerDisplacements.back().rowwise().norm().maxCoeff());
+      trace.result.maxMarkerDisplacement =
+          std::max(trace.result.maxMarkerDisplacement,
+                   trace.markerDisplacements.back().rowwise().norm().maxCoeff());
     if (series && (step % scene.output.every == 0 || step == scene.steps))
       writeFrame(scene, stress, state, markers, *series);
 
@@ -155,10 +161,6 @@ RunTrace runOne(const Scene& scene, const std::string& dir, RunProgress progress
   if (!timing) throw InputError(dir + "/timing.csv: cannot write file");
   trace.result.frames = series ? series->numFrames() : 0;
   trace.result.meanStepMs = 1e3 * stepSeconds / scene.steps;
-  const Eigen::VectorXd u = state.x - model.restPositions();
-  for (Eigen::Index i = 0; i < model.mesh->numNodes(); ++i)
-    trace.result.maxNodeDisplacement =
-        std::max(trace.result.maxNodeDisplacement, u.segment<3>(3 * i).norm());
   trace.result.wallSeconds = secondsSince(t0);
   return trace;
 }

@@ -11,10 +11,10 @@ namespace bcassim {
 
 // Where a run stands, reported after every step.
 struct RunProgress {
-  std::string variant;      // name of the scene being run ("base" or a variant's)
-  int variantIndex = 0;     // 0 for the base
-  int numVariants = 1;      // base included
-  int step = 0, steps = 0;  // steps done / to do in this variant
+  std::string variant;                // name of the scene being run ("base" or a variant's)
+  int variantIndex = 0;               // 0 for the base
+  int numVariants = 1;                // base included
+  int step = 0, steps = 0;            // steps done / to do in this variant
   int stepsDone = 0, stepsTotal = 0;  // over all variants
   double elapsedSeconds = 0;          // since runSimulation started
   double meanStepMs = 0;              // mean wall time of this variant's steps so far
@@ -23,12 +23,12 @@ using ProgressCallback = std::function<void(const RunProgress&)>;
 
 struct RunResult {
   std::string name;
-  std::string outDir;                 // where its files went
-  int steps = 0, frames = 0;          // frames written to the .pvd (0 without pvd)
-  double meanStepMs = 0;              // mean wall time of one step (integration only)
-  double wallSeconds = 0;             // the whole run, output included
-  double maxMarkerDisplacement = 0;   // m, over markers and steps
-  double maxNodeDisplacement = 0;     // m, over nodes, at the final time
+  std::string outDir;                // where its files went
+  int steps = 0, frames = 0;         // frames written to the .pvd (0 without pvd)
+  double meanStepMs = 0;             // mean wall time of one step (integration only)
+  double wallSeconds = 0;            // the whole run, output included
+  double maxMarkerDisplacement = 0;  // m, over markers and steps
+  double maxNodeDisplacement = 0;    // m, over nodes and steps
   // Marker displacements against the base run, relative to the base's largest marker
   // displacement: at the final time (max_i |u_i - u_ref,i| / max_i |u_ref,i|), and over all
   // steps (max over t, i of |u_i - u_ref,i| / max over t, i of |u_ref,i|). 0 for the base.

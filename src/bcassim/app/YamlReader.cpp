@@ -122,8 +122,7 @@ Vec3 parseVec3(const YamlSource& source, const YAML::Node& node, const std::stri
   if (!node.IsSequence() || node.size() != 3)
     failAt(source, node, path,
            "expected a list of 3 numbers" + (words.empty() ? "" : " in " + words) + ", got " +
-               (node.IsSequence() ? "a list of " + std::to_string(node.size())
-                                  : describe(node)));
+               (node.IsSequence() ? "a list of " + std::to_string(node.size()) : describe(node)));
   Vec3 v;
   for (int i = 0; i < 3; ++i)
     v(i) = parseNumber(source, node[i], path + "[" + std::to_string(i) + "]", unit, range);
@@ -221,7 +220,8 @@ std::string MapReader::choice(const std::string& key, const std::string& fallbac
     if (v == c) return v;
   std::string list;
   for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
-  failAt(source_, node(key), pathOf(key), "expected one of " + list + ", got " + describe(node(key)));
+  failAt(source_, node(key), pathOf(key),
+         "expected one of " + list + ", got " + describe(node(key)));
 }
 
 Vec3 MapReader::vec3(const std::string& key, const Vec3& fallback, const std::string& unit,
