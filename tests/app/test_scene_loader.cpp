@@ -7,6 +7,8 @@
 #include "bcassim/Error.h"
 #include "bcassim/app/NodePoints.h"
 #include "bcassim/app/SceneLoader.h"
+#include "bcassim/io/MeshWriter.h"
+#include "bcassim/mesh/MeshGenerators.h"
 
 namespace bcassim {
 namespace {
@@ -19,14 +21,15 @@ Scene load(const std::string& yaml, const std::string& dir = ".") {
 }
 
 // The InputError message of loading `yaml`, or "" when it loads.
-std::string errorOf(const std::string& yaml) {
+std::string loadError(const std::string& yaml, const std::string& dir = ".") {
   try {
-    load(yaml);
+    load(yaml, dir);
   } catch (const InputError& e) {
     return e.what();
   }
   return "";
 }
+std::string errorOf(const std::string& yaml) { return loadError(yaml); }
 
 const char* kBox = "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [5, 1, 1]}\n";
 
@@ -190,7 +193,38 @@ materials:
   EXPECT_DOUBLE_EQ(mr.c01, 200);
   EXPECT_DOUBLE_EQ(mr.kappa, 50000);
   EXPECT_EQ(errorOf(std::string(kBox) + "materials:\n  - {region: 3, model: linear}\n"),
-            "scene.yaml:3: materials: no material for mesh region 0 (the mesh has regions 0)");
+            "scene.yaml:3: materials[0].region: the mesh has no region 3 (it has regions 0)");
+}
+
+TEST(SceneLoader, MeshFileWithRegionsScaleAndMaterialPerRegion) {
+  const auto dir = freshDir();
+  // A box in millimetres, region 1 for the tets of the far half.
+  TetMesh mesh = makeBoxMesh(Vec3(100, 20, 20), 4, 1, 1);
+  mesh.region.resize(mesh.numTets());
+  for (Eigen::Index t = 0; t < mesh.numTets(); ++t)
+    mesh.region(t) = mesh.V(mesh.T(t, 0), 0) + mesh.V(mesh.T(t, 1), 0) >= 100 ? 1 : 0;
+  std::filesystem::create_directories(dir / "meshes");
+  writeTetMesh((dir / "meshes" / "box.vtu").string(), mesh);
+  const std::string meshKey = "mesh: {file: meshes/box.vtu, scale: 0.001}\n";
+  const Scene s = load(meshKey + R"(
+materials:
+  - {region: 1, model: linear}
+  - {region: 0, model: corotational, young_modulus: 3000}
+)",
+                       dir.string());
+  EXPECT_NEAR(s.model.mesh->V.col(0).maxCoeff(), 0.1, 1e-15);
+  ASSERT_EQ(s.model.elasticity.numRegions(), 2);
+  EXPECT_STREQ(materialName(s.model.elasticity.material(0)), "corotational");
+  EXPECT_STREQ(materialName(s.model.elasticity.material(1)), "linear");
+
+  EXPECT_EQ(loadError(meshKey + "materials:\n  - {region: 1}\n", dir.string()),
+            "scene.yaml:3: materials: no material for mesh region 0 (the mesh has regions 0, 1)");
+  writeText(dir / "meshes" / "bad.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\nx\n");
+  const std::string error = loadError("mesh:\n  file: meshes/bad.msh\n", dir.string());
+  EXPECT_EQ(
+      error.rfind("scene.yaml:2: mesh.file: " + (dir / "meshes" / "bad.msh").string() + ":", 0), 0u)
+      << error;
+  EXPECT_EQ(test::countLines(error), 0);
 }
 
 TEST(SceneLoader, VariantsMergeIntoTheBase) {

@@ -136,6 +136,10 @@ std::vector<Material> readMaterials(const YamlSource& src, const MapReader& top,
   if (top.has("material") && top.has("materials"))
     top.fail("materials", "expected either material (one for all tets) or materials, not both");
   if (!top.has("materials")) return {readMaterial(src, top.node("material"), "material", false)};
+  std::set<int> meshRegions;
+  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) meshRegions.insert(mesh.regionOf(t));
+  std::string ids;
+  for (int id : meshRegions) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
   std::map<int, Material> byRegion;
   const auto entries = listElements(src, top.node("materials"), "materials");
   for (size_t i = 0; i < entries.size(); ++i) {
@@ -145,20 +149,18 @@ std::vector<Material> readMaterials(const YamlSource& src, const MapReader& top,
                  "alpha"});
     if (!e.has("region")) failAt(src, entries[i], path, "missing key 'region' (mesh region id)");
     const int region = e.integer("region", 0);
+    if (!meshRegions.count(region))
+      e.fail("region",
+             "the mesh has no region " + std::to_string(region) + " (it has regions " + ids + ")");
     if (byRegion.count(region))
       e.fail("region", "region " + std::to_string(region) + " given twice");
     byRegion.emplace(region, readMaterial(src, entries[i], path, true));
   }
   if (byRegion.empty()) top.fail("materials", "expected at least one material");
-  std::set<int> meshRegions;
-  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) meshRegions.insert(mesh.regionOf(t));
   for (int r : meshRegions)
-    if (!byRegion.count(r)) {
-      std::string ids;
-      for (int id : meshRegions) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+    if (!byRegion.count(r))
       top.fail("materials", "no material for mesh region " + std::to_string(r) +
                                 " (the mesh has regions " + ids + ")");
-    }
   std::vector<Material> materials(byRegion.rbegin()->first + 1, byRegion.begin()->second);
   for (const auto& [region, material] : byRegion) materials[region] = material;
   return materials;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 
 #include "bcassim/Error.h"
 #include "bcassim/app/StressField.h"
@@ -78,10 +79,12 @@ void writeFrame(const Scene& scene, const StressField& stress, const MechanicalS
 
 struct RunTrace {
   RunResult result;
-  std::vector<Eigen::MatrixX3d> markerDisplacements;  // one per step, #markers by 3, m
+  // At the output steps (every output.every steps and the last), #markers by 3, m; kept only
+  // when variants are compared, as it may be large.
+  std::map<int, Eigen::MatrixX3d> markerDisplacements;
 };
 
-RunTrace runOne(const Scene& scene, const std::string& dir, RunProgress progress,
+RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, RunProgress progress,
                 Clock::time_point started, const ProgressCallback& callback) {
   const Clock::time_point t0 = Clock::now();
   const MechanicalModel& model = scene.model;
@@ -143,13 +146,13 @@ RunTrace runOne(const Scene& scene, const std::string& dir, RunProgress progress
                    (state.x.segment<3>(3 * i) - rest.segment<3>(3 * i)).norm());
     const Eigen::MatrixX3d markers = markerPositions(scene, state.x);
     tracks.write(state.t, markers);
-    trace.markerDisplacements.push_back(markers - scene.markers.rest);
-    if (markers.rows() > 0)
+    const Eigen::MatrixX3d u = markers - scene.markers.rest;
+    if (u.rows() > 0)
       trace.result.maxMarkerDisplacement =
-          std::max(trace.result.maxMarkerDisplacement,
-                   trace.markerDisplacements.back().rowwise().norm().maxCoeff());
-    if (series && (step % scene.output.every == 0 || step == scene.steps))
-      writeFrame(scene, stress, state, markers, *series);
+          std::max(trace.result.maxMarkerDisplacement, u.rowwise().norm().maxCoeff());
+    const bool outputStep = step % scene.output.every == 0 || step == scene.steps;
+    if (keepMarkers && outputStep) trace.markerDisplacements.emplace(step, u);
+    if (series && outputStep) writeFrame(scene, stress, state, markers, *series);
 
     progress.step = step;
     ++progress.stepsDone;
@@ -165,9 +168,12 @@ RunTrace runOne(const Scene& scene, const std::string& dir, RunProgress progress
   return trace;
 }
 
-// max |a - b| over rows, and max |b| over rows.
+// max over rows of |a - b|, and of |a|.
 double maxRowDistance(const Eigen::MatrixX3d& a, const Eigen::MatrixX3d& b) {
   return a.rows() ? (a - b).rowwise().norm().maxCoeff() : 0.0;
+}
+double maxRowNorm(const Eigen::MatrixX3d& a) {
+  return a.rows() ? a.rowwise().norm().maxCoeff() : 0.0;
 }
 
 double ratio(double num, double den) {
@@ -175,19 +181,19 @@ double ratio(double num, double den) {
   return num > 0 ? std::numeric_limits<double>::infinity() : 0.0;
 }
 
+// Compares at the output steps both runs kept; the last step is one of them.
 void compareWithBase(const RunTrace& base, RunTrace& run) {
-  const size_t steps = std::min(base.markerDisplacements.size(), run.markerDisplacements.size());
-  if (steps == 0) return;
+  if (base.markerDisplacements.empty() || run.markerDisplacements.empty()) return;
   double diffAll = 0, refAll = 0;
-  for (size_t s = 0; s < steps; ++s) {
-    const Eigen::MatrixX3d& ref = base.markerDisplacements[s];
-    diffAll = std::max(diffAll, maxRowDistance(run.markerDisplacements[s], ref));
-    if (ref.rows()) refAll = std::max(refAll, ref.rowwise().norm().maxCoeff());
+  for (const auto& [step, ref] : base.markerDisplacements) {
+    const auto it = run.markerDisplacements.find(step);
+    if (it == run.markerDisplacements.end()) continue;
+    diffAll = std::max(diffAll, maxRowDistance(it->second, ref));
+    refAll = std::max(refAll, maxRowNorm(ref));
   }
-  const Eigen::MatrixX3d& refFinal = base.markerDisplacements[steps - 1];
-  const double refFinalNorm = refFinal.rows() ? refFinal.rowwise().norm().maxCoeff() : 0.0;
-  run.result.relativeDifferenceFinal =
-      ratio(maxRowDistance(run.markerDisplacements[steps - 1], refFinal), refFinalNorm);
+  const Eigen::MatrixX3d& refFinal = base.markerDisplacements.rbegin()->second;
+  const Eigen::MatrixX3d& final = run.markerDisplacements.rbegin()->second;
+  run.result.relativeDifferenceFinal = ratio(maxRowDistance(final, refFinal), maxRowNorm(refFinal));
   run.result.relativeDifferenceAll = ratio(diffAll, refAll);
 }
 
@@ -212,7 +218,7 @@ SimulationResult runSimulation(const Scene& scene, const std::string& outDir,
     p.step = 0;
     const std::string dir =
         i == 0 ? outDir : (std::filesystem::path(outDir) / scenes[i]->name).string();
-    RunTrace trace = runOne(*scenes[i], dir, p, started, progress);
+    RunTrace trace = runOne(*scenes[i], dir, scenes.size() > 1, p, started, progress);
     p.stepsDone += scenes[i]->steps;
     if (i == 0)
       base = trace;
