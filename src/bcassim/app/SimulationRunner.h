@@ -30,8 +30,9 @@ struct RunResult {
   double maxMarkerDisplacement = 0;  // m, over markers and steps
   double maxNodeDisplacement = 0;    // m, over nodes and steps
   // Marker displacements against the base run, relative to the base's largest marker
-  // displacement: at the final time (max_i |u_i - u_ref,i| / max_i |u_ref,i|), and over all
-  // steps (max over t, i of |u_i - u_ref,i| / max over t, i of |u_ref,i|). 0 for the base.
+  // displacement: at the final time (max_i |u_i - u_ref,i| / max_i |u_ref,i|), and over the
+  // output times t, every output.every steps and the last (max over t, i of |u_i - u_ref,i| /
+  // max over t, i of |u_ref,i|). 0 for the base.
   double relativeDifferenceFinal = 0;
   double relativeDifferenceAll = 0;
 };
