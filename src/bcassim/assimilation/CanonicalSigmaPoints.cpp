@@ -1,0 +1,24 @@
+#include "bcassim/assimilation/CanonicalSigmaPoints.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "bcassim/Error.h"
+
+namespace bcassim {
+
+SigmaPointSet canonicalSigmaPoints(Eigen::Index n) {
+  if (n < 1) throw InputError(fmt::format("canonical sigma points need n >= 1, got {}", n));
+  const double scale = std::sqrt(static_cast<double>(n));
+  SigmaPointSet set;
+  set.unit.setZero(n, 2 * n);
+  set.weights.setConstant(2 * n, 1.0 / (2.0 * n));
+  for (Eigen::Index k = 0; k < n; ++k) {
+    set.unit(k, k) = scale;
+    set.unit(k, n + k) = -scale;
+  }
+  return set;
+}
+
+}  // namespace bcassim

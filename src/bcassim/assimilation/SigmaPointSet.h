@@ -1,0 +1,34 @@
+// Unit sigma points I^(k) and weights w_k (thesis eq. 3.3-3.6) with sum w_k I^(k) = 0 and
+// sum w_k I^(k) I^(k)^T = Id, so that x + S I^(k) with S S^T = P reproduces mean x and covariance
+// P.
+#pragma once
+#include <Eigen/Core>
+#include <string_view>
+
+namespace bcassim {
+
+enum class SigmaPointKind {
+  Star,       // 2n+1 points, eq. 3.4 (centre first)
+  Canonical,  // 2n points, eq. 3.5
+  Simplex,    // n+1 points, eq. 3.6
+};
+
+// Parses "star", "canonical" or "simplex"; throws InputError otherwise.
+SigmaPointKind parseSigmaPointKind(std::string_view name);
+
+struct SigmaPointSet {
+  Eigen::MatrixXd unit;     // n x s: column k is I^(k)
+  Eigen::VectorXd weights;  // s weights, summing to 1
+
+  Eigen::Index count() const { return unit.cols(); }
+  // n x s points mean + sqrtCov * I^(k); sqrtCov is any n x r factor with r = unit.rows().
+  Eigen::MatrixXd points(const Eigen::VectorXd& mean, const Eigen::MatrixXd& sqrtCov) const;
+  // Weighted mean and weighted covariance of the columns of X.
+  Eigen::VectorXd meanOf(const Eigen::MatrixXd& X) const { return X * weights; }
+  Eigen::MatrixXd covarianceOf(const Eigen::MatrixXd& X) const;
+};
+
+// The set of `kind` in dimension n >= 1 (star with its default kappa).
+SigmaPointSet makeSigmaPoints(SigmaPointKind kind, Eigen::Index n);
+
+}  // namespace bcassim

@@ -1,0 +1,71 @@
+// Each sigma-point set reproduces a given mean and covariance exactly, for random SPD covariances.
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+
+#include "assimilation/AssimilationTestModels.h"
+#include "bcassim/Error.h"
+#include "bcassim/assimilation/CanonicalSigmaPoints.h"
+#include "bcassim/assimilation/SimplexSigmaPoints.h"
+#include "bcassim/assimilation/StarSigmaPoints.h"
+
+namespace bcassim {
+namespace {
+
+std::vector<std::pair<const char*, SigmaPointSet>> setsOfDimension(Eigen::Index n) {
+  return {{"star", starSigmaPoints(n)},
+          {"star kappa 2", starSigmaPoints(n, 2.0)},
+          {"canonical", canonicalSigmaPoints(n)},
+          {"simplex", simplexSigmaPoints(n)}};
+}
+
+TEST(SigmaPoints, CountsAndUnitMoments) {
+  for (Eigen::Index n : {1, 2, 5, 12}) {
+    EXPECT_EQ(starSigmaPoints(n).count(), 2 * n + 1);
+    EXPECT_EQ(canonicalSigmaPoints(n).count(), 2 * n);
+    EXPECT_EQ(simplexSigmaPoints(n).count(), n + 1);
+    for (const auto& [name, set] : setsOfDimension(n)) {
+      EXPECT_NEAR(set.weights.sum(), 1.0, 1e-14) << name;
+      EXPECT_LT((set.unit * set.weights).norm(), 1e-13) << name;
+      const Eigen::MatrixXd second = set.unit * set.weights.asDiagonal() * set.unit.transpose();
+      EXPECT_LT((second - Eigen::MatrixXd::Identity(n, n)).norm(), 1e-13) << name << " n=" << n;
+    }
+  }
+}
+
+TEST(SigmaPoints, ReproduceMeanAndCovarianceOfRandomSpdMatrices) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (Eigen::Index n : {1, 3, 7, 20}) {
+    for (int trial = 0; trial < 5; ++trial) {
+      const Eigen::MatrixXd P = testing::randomSpd(n, rng);
+      Eigen::VectorXd mean(n);
+      for (Eigen::Index i = 0; i < n; ++i) mean[i] = g(rng);
+      const Eigen::MatrixXd S = P.llt().matrixL();
+      for (const auto& [name, set] : setsOfDimension(n)) {
+        const Eigen::MatrixXd X = set.points(mean, S);
+        EXPECT_LT((set.meanOf(X) - mean).cwiseAbs().maxCoeff(), 1e-12) << name << " n=" << n;
+        EXPECT_LT((set.covarianceOf(X) - P).cwiseAbs().maxCoeff(), 1e-12) << name << " n=" << n;
+      }
+    }
+  }
+}
+
+TEST(SigmaPoints, SimplexPointsAreEquidistantFromTheMean) {
+  const SigmaPointSet set = simplexSigmaPoints(6);
+  const double r = set.unit.col(0).norm();
+  for (Eigen::Index k = 1; k < set.count(); ++k) EXPECT_NEAR(set.unit.col(k).norm(), r, 1e-12);
+}
+
+TEST(SigmaPoints, StarCentreComesFirstAndKindsParse) {
+  EXPECT_EQ(starSigmaPoints(4).unit.col(0).norm(), 0.0);
+  EXPECT_EQ(parseSigmaPointKind("star"), SigmaPointKind::Star);
+  EXPECT_EQ(parseSigmaPointKind("canonical"), SigmaPointKind::Canonical);
+  EXPECT_EQ(parseSigmaPointKind("simplex"), SigmaPointKind::Simplex);
+  EXPECT_THROW(parseSigmaPointKind("Simplex"), InputError);
+  EXPECT_THROW(simplexSigmaPoints(0), InputError);
+  EXPECT_THROW(starSigmaPoints(3, -1.0), InputError);
+}
+
+}  // namespace
+}  // namespace bcassim
