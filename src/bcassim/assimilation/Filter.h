@@ -1,0 +1,22 @@
+// The predict/correct loop of thesis Fig. 3.5 seen from the caller: one step() per time step.
+#pragma once
+#include <Eigen/Core>
+
+#include "bcassim/assimilation/FilterStepReport.h"
+#include "bcassim/assimilation/Observation.h"
+
+namespace bcassim {
+
+class Filter {
+ public:
+  virtual ~Filter() = default;
+  // Forecasts every sigma point / member one step (in parallel through the executor), corrects
+  // with the present entries of `y` (none: prediction only) and calls endStep() on the models.
+  virtual FilterStepReport step(const Observation& y) = 0;
+  // Current mean of the stochastic state [physical; parameters] in the filter's unconstrained
+  // space, and its covariance (formed on demand by the reduced and ensemble filters).
+  virtual const Eigen::VectorXd& mean() const = 0;
+  virtual Eigen::MatrixXd covariance() const = 0;
+};
+
+}  // namespace bcassim

@@ -1,0 +1,29 @@
+// What one filter step returns instead of printing: the estimate, its spread, the innovation,
+// repairs and timings (SPEC §2 "outputs per step").
+#pragma once
+#include <Eigen/Core>
+
+namespace bcassim {
+
+struct StepSeconds {
+  double forecast = 0.0;    // all sigma-point / member forecasts
+  double correction = 0.0;  // analysis (and statistics of the prediction)
+  double total = 0.0;       // the whole step, including endStep() on the models
+};
+
+struct FilterStepReport {
+  // Analysed mean in physical units: the physical part, then the parameters transformed back.
+  Eigen::VectorXd mean;
+  // Standard deviations of `mean`; parameters pushed through their transform (delta method).
+  Eigen::VectorXd stddev;
+  // ||y - mean predicted observation|| over the present entries (0 when none).
+  double innovationNorm = 0.0;
+  // Observation entries used this step; 0 means the step was a prediction only.
+  Eigen::Index observed = 0;
+  // Covariance factorisations repaired with jitter this step, and the largest jitter.
+  int covarianceRepairs = 0;
+  double largestJitter = 0.0;
+  StepSeconds seconds;
+};
+
+}  // namespace bcassim

@@ -1,0 +1,51 @@
+// What a filter needs from the world, nothing more: advance one sigma point (or ensemble member)
+// one time step and predict its observations (T and H of eq. 3.1). No FEM here (thesis §3.3).
+#pragma once
+#include <Eigen/Core>
+
+namespace bcassim {
+
+// The forecast operator of one worker. A filter owns no model: the caller hands it one instance
+// per executor worker, and worker w only ever calls instance w, so an implementation needs no
+// locks for its own scratch data.
+//
+// Contract:
+//  * The stochastic state is x = [physical part (stateSize() entries); parameters]. The physical
+//    part is what the filter estimates of the mechanical state (positions, optionally velocities;
+//    may be empty for parameter-only estimation). Everything else the step needs (velocities not
+//    carried, the time, loads, contacts) is the model's own "reference", set by endStep().
+//  * forecast() must be a function of (reference, state, params) only: forecasts of different
+//    sigma points of one step are independent and may run concurrently on different instances
+//    and in any order. Running the same inputs twice must give the same outputs.
+//  * endStep() is called on every instance, serially, once the step's analysis is done, with the
+//    analysed mean. The model moves its reference to the next time step: the next forecasts start
+//    from this mean (with parameter-only estimation, the model continues its mechanical state
+//    with the analysed parameters, e.g. by re-running the step or keeping the forecast closest to
+//    the mean).
+//  * With FilterOptions::firstSigmaPointAlone, the first forecast of each step returns before any
+//    other forecast of that step starts. A model may therefore factorise its system matrix during
+//    the first forecast after endStep() and share it, read-only, as a preconditioner with the
+//    other instances (thesis Alg. 4/5); how they share it is the model's business.
+//  * Errors are thrown (NumericalError for a diverged step); the filter does not catch them.
+class ForecastModel {
+ public:
+  virtual ~ForecastModel() = default;
+
+  // Size of the physical part of the stochastic state; 0 for parameter-only estimation.
+  virtual Eigen::Index stateSize() const = 0;
+  // Number of predicted observation entries (e.g. 3 x markers).
+  virtual Eigen::Index observationSize() const = 0;
+
+  // Advances one time step from the reference, with the physical part overridden by `state`
+  // (stateSize()) and parameters `params` (physical values, already transformed). Writes the new
+  // physical part (stateSize()) and the observations predicted at the new time
+  // (observationSize()). Observations come with the forecast because, with a parameter-only
+  // state, only the model knows the positions it just computed.
+  virtual void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
+                        Eigen::VectorXd& newState, Eigen::VectorXd& predicted) = 0;
+
+  // The step is over: `state` and `params` (physical values) are the analysed mean.
+  virtual void endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) = 0;
+};
+
+}  // namespace bcassim
