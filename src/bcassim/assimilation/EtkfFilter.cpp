@@ -1,0 +1,113 @@
+#include "bcassim/assimilation/EtkfFilter.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/SVD>
+#include <chrono>
+
+#include "bcassim/Error.h"
+#include "bcassim/assimilation/ObservedSubset.h"
+
+namespace bcassim {
+namespace {
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+Eigen::MatrixXd standardNormal(Eigen::Index rows, Eigen::Index cols, std::mt19937_64& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd out(rows, cols);
+  for (Eigen::Index j = 0; j < cols; ++j)
+    for (Eigen::Index i = 0; i < rows; ++i) out(i, j) = normal(rng);
+  return out;
+}
+}  // namespace
+
+EtkfFilter::EtkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
+                       Executor& executor, EtkfOptions options)
+    : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone),
+      options_(std::move(options)),
+      rng_(options_.seed) {
+  const StochasticState& s = ensemble_.layout();
+  if (options_.members < 2)
+    throw InputError(fmt::format("ETKF needs at least 2 members, got {}", options_.members));
+  if (options_.processVariance.size() != 0 && options_.processVariance.size() != s.size())
+    throw InputError(fmt::format("process noise has {} variances, the stochastic state {} entries",
+                                 options_.processVariance.size(), s.size()));
+  x_ = s.initialMean();
+  members_ = s.initialStddev().asDiagonal() * standardNormal(s.size(), options_.members, rng_);
+  members_.colwise() += x_;
+}
+
+Eigen::MatrixXd EtkfFilter::covariance() const {
+  const Eigen::MatrixXd D = members_.colwise() - members_.rowwise().mean();
+  return D * D.transpose() / static_cast<double>(members_.cols() - 1);
+}
+
+void EtkfFilter::reset(Eigen::MatrixXd members) {
+  if (members.rows() != ensemble_.layout().size() || members.cols() < 2)
+    throw InputError(
+        fmt::format("ETKF ensemble must be {} x N with N >= 2", ensemble_.layout().size()));
+  members_ = std::move(members);
+  x_ = members_.rowwise().mean();
+}
+
+FilterStepReport EtkfFilter::step(const Observation& y) {
+  const auto start = Clock::now();
+  const ObservedSubset obs(y, ensemble_.observationSize());
+  FilterStepReport report;
+  const Eigen::Index N = members_.cols();
+  const double nm1 = static_cast<double>(N - 1);
+
+  // Prediction (Alg. 3 lines 13-20).
+  Eigen::MatrixXd Xf, Z;
+  const auto forecastStart = Clock::now();
+  ensemble_.forecast(members_, Xf, Z);
+  report.seconds.forecast = secondsSince(forecastStart);
+
+  const auto correctionStart = Clock::now();
+  x_ = Xf.rowwise().mean();
+  Eigen::MatrixXd Xp = Xf.colwise() - x_;
+  if (options_.processVariance.size() != 0) {
+    Eigen::MatrixXd noise =
+        options_.processVariance.cwiseSqrt().asDiagonal() * standardNormal(Xp.rows(), N, rng_);
+    noise.colwise() -= noise.rowwise().mean();
+    Xp += noise;
+  }
+
+  if (obs.empty()) {
+    members_ = Xp.colwise() + x_;
+  } else {
+    // Correction (Alg. 3 lines 24-36, eq. 3.17-3.18). With Zt = R^-1/2 Z' = U S V^T (thin),
+    // A = [(N-1) I + Zt^T Zt]^-1 = (I - V diag(s^2/(N-1+s^2)) V^T) / (N-1) and its symmetric root
+    // sqrt((N-1) A) = I + V diag(sqrt((N-1)/(N-1+s^2)) - 1) V^T: O(N r^2), never an N x N solve.
+    const Eigen::MatrixXd Zs = obs.selectRows(Z);
+    const Eigen::VectorXd zMean = Zs.rowwise().mean();
+    const Eigen::MatrixXd Zt = obs.whiten(Zs.colwise() - zMean);
+    const Eigen::VectorXd innovation = obs.values() - zMean;
+    const Eigen::BDCSVD<Eigen::MatrixXd> svd(Zt, Eigen::ComputeThinV);
+    const Eigen::MatrixXd& V = svd.matrixV();
+    const Eigen::ArrayXd s2 = svd.singularValues().array().square();
+
+    const Eigen::VectorXd b = Zt.transpose() * obs.whiten(innovation);
+    const Eigen::VectorXd omega =
+        (b - V * (s2 / (nm1 + s2)).matrix().asDiagonal() * (V.transpose() * b)) / nm1;
+    x_ += Xp * omega;
+    const Eigen::VectorXd shrink = ((nm1 / (nm1 + s2)).sqrt() - 1.0).matrix();
+    const Eigen::MatrixXd XpV = Xp * V;
+    members_ = Xp + XpV * shrink.asDiagonal() * V.transpose();
+    members_.colwise() += x_;
+    report.innovationNorm = innovation.norm();
+    report.observed = obs.size();
+  }
+  report.seconds.correction = secondsSince(correctionStart);
+
+  ensemble_.endStep(x_);
+  const Eigen::VectorXd sd = ((members_.colwise() - x_).rowwise().squaredNorm() / nm1).cwiseSqrt();
+  ensemble_.layout().toReported(x_, sd, report.mean, report.stddev);
+  report.seconds.total = secondsSince(start);
+  return report;
+}
+
+}  // namespace bcassim

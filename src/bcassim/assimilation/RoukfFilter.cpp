@@ -1,0 +1,113 @@
+#include "bcassim/assimilation/RoukfFilter.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "bcassim/Error.h"
+#include "bcassim/assimilation/CovarianceRepair.h"
+#include "bcassim/assimilation/ObservedSubset.h"
+
+namespace bcassim {
+namespace {
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// S = L C^-T with U = C C^T, so that S S^T = L U^-1 L^T: the square root that samples (eq. 3.10).
+Eigen::MatrixXd sqrtFactor(const Eigen::MatrixXd& L, const Eigen::MatrixXd& U, RepairLog& log) {
+  const Eigen::MatrixXd C = choleskyWithRepair(U, log);
+  return C.triangularView<Eigen::Lower>().solve(L.transpose()).transpose();
+}
+}  // namespace
+
+RoukfFilter::RoukfFilter(StochasticState layout, std::vector<ForecastModel*> models,
+                         Executor& executor, RoukfOptions options)
+    : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone) {
+  const StochasticState& s = ensemble_.layout();
+  const Eigen::VectorXd sd = s.initialStddev();
+  std::vector<Eigen::Index> reduced;
+  for (Eigen::Index i = 0; i < s.size(); ++i)
+    if (sd[i] > 0) reduced.push_back(i);
+  const auto r = static_cast<Eigen::Index>(reduced.size());
+  if (r == 0) throw InputError("reduced-order filter has nothing to estimate: every sigma is 0");
+  x_ = s.initialMean();
+  L_.setZero(s.size(), r);
+  U_.setZero(r, r);
+  for (Eigen::Index k = 0; k < r; ++k) {
+    L_(reduced[k], k) = 1.0;
+    U_(k, k) = 1.0 / (sd[reduced[k]] * sd[reduced[k]]);
+  }
+  sigma_ = makeSigmaPoints(options.sigmaPoints, r);
+}
+
+Eigen::MatrixXd RoukfFilter::covariance() const {
+  RepairLog ignored;
+  const Eigen::MatrixXd S = sqrtFactor(L_, U_, ignored);
+  return S * S.transpose();
+}
+
+void RoukfFilter::reset(Eigen::VectorXd mean, Eigen::MatrixXd L, Eigen::MatrixXd U) {
+  const Eigen::Index n = ensemble_.layout().size();
+  const Eigen::Index r = rank();
+  if (mean.size() != n || L.rows() != n || L.cols() != r || U.rows() != r || U.cols() != r)
+    throw InputError(fmt::format("ROUKF state must be: mean {}, L {}x{}, U {}x{}", n, n, r, r, r));
+  x_ = std::move(mean);
+  L_ = std::move(L);
+  U_ = std::move(U);
+}
+
+FilterStepReport RoukfFilter::step(const Observation& y) {
+  const auto start = Clock::now();
+  const ObservedSubset obs(y, ensemble_.observationSize());
+  FilterStepReport report;
+  RepairLog repairs;
+
+  // Prediction (Alg. 2 lines 11-17): sample, forecast, then L = X D_w I^T. Subtracting the mean
+  // first changes nothing in exact arithmetic (sum w I = 0) but avoids cancellation when the
+  // state is large (positions) and the spread small.
+  const Eigen::MatrixXd X = sigma_.points(x_, sqrtFactor(L_, U_, repairs));
+  Eigen::MatrixXd Xf, Z;
+  const auto forecastStart = Clock::now();
+  ensemble_.forecast(X, Xf, Z);
+  report.seconds.forecast = secondsSince(forecastStart);
+
+  const auto correctionStart = Clock::now();
+  const Eigen::VectorXd& w = sigma_.weights;
+  const Eigen::MatrixXd DIt = w.asDiagonal() * sigma_.unit.transpose();  // s x r
+  x_ = sigma_.meanOf(Xf);
+  L_ = (Xf.colwise() - x_) * DIt;
+  // After the prediction P = L L^T: the reduced covariance is I D_w I^T = Id.
+  const Eigen::Index r = rank();
+  U_.setIdentity(r, r);
+
+  // Correction (Alg. 2 lines 21-27) in whitened form: with W = R^-1/2 H_L and d = R^-1/2 (y - z),
+  // U = I + W^T W and x += L U^-1 W^T d.
+  if (!obs.empty()) {
+    const Eigen::MatrixXd Zs = obs.selectRows(Z);
+    const Eigen::VectorXd zMean = Zs * w;
+    const Eigen::MatrixXd W = obs.whiten((Zs.colwise() - zMean) * DIt);
+    const Eigen::VectorXd innovation = obs.values() - zMean;
+    U_.noalias() += W.transpose() * W;
+    const Eigen::MatrixXd C = choleskyWithRepair(U_, repairs);
+    const auto Cl = C.triangularView<Eigen::Lower>();
+    const Eigen::VectorXd reducedGain =
+        Cl.transpose().solve(Cl.solve(W.transpose() * obs.whiten(innovation)));
+    x_ += L_ * reducedGain;
+    report.innovationNorm = innovation.norm();
+    report.observed = obs.size();
+  }
+  report.seconds.correction = secondsSince(correctionStart);
+
+  ensemble_.endStep(x_);
+  RepairLog again;  // U was factorised (and any repair counted) above
+  const Eigen::MatrixXd S = sqrtFactor(L_, U_, again);
+  ensemble_.layout().toReported(x_, S.rowwise().norm(), report.mean, report.stddev);
+  report.covarianceRepairs = repairs.repairs;
+  report.largestJitter = repairs.largestJitter;
+  report.seconds.total = secondsSince(start);
+  return report;
+}
+
+}  // namespace bcassim

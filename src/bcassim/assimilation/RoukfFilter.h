@@ -1,0 +1,51 @@
+// Reduced-order unscented Kalman filter (thesis Alg. 2, eq. 3.9-3.12; Moireau & Chapelle 2011):
+// the covariance is kept factored as P = L U^-1 L^T of rank r, so a step forecasts r+1 simplex
+// points however large the physical part of the state is.
+#pragma once
+#include <vector>
+
+#include "bcassim/assimilation/Filter.h"
+#include "bcassim/assimilation/FilterOptions.h"
+#include "bcassim/assimilation/ForecastEnsemble.h"
+#include "bcassim/assimilation/SigmaPointSet.h"
+
+namespace bcassim {
+
+struct RoukfOptions : FilterOptions {
+  // The algebra needs only sum w I = 0 and sum w I I^T = Id, which every set satisfies; simplex is
+  // the thesis' choice and the cheapest (r+1 forecasts).
+  SigmaPointKind sigmaPoints = SigmaPointKind::Simplex;
+};
+
+// Reduced state: the r directions that carry uncertainty are every parameter plus every entry of
+// the physical part whose initial standard deviation is > 0 (none, typically: positions start
+// known and become uncertain only through the parameters). L (n x r) starts as the matching
+// columns of the identity and U = diag(1/sigma^2). The other physical entries are still in the
+// state and are corrected through the rows of L that the forecasts fill in (eq. 3.10). There is no
+// process noise: it would raise the rank.
+class RoukfFilter final : public Filter {
+ public:
+  RoukfFilter(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
+              RoukfOptions options = {});
+
+  FilterStepReport step(const Observation& y) override;
+  const Eigen::VectorXd& mean() const override { return x_; }
+  // L U^-1 L^T, n x n: for tests and small states.
+  Eigen::MatrixXd covariance() const override;
+
+  Eigen::Index rank() const { return L_.cols(); }
+  const Eigen::MatrixXd& basis() const { return L_; }             // L, n x r
+  const Eigen::MatrixXd& reducedPrecision() const { return U_; }  // U, r x r
+
+  // Replaces the estimate (restoring a checkpoint): mean (n), L (n x r), U (r x r, SPD).
+  void reset(Eigen::VectorXd mean, Eigen::MatrixXd L, Eigen::MatrixXd U);
+
+ private:
+  ForecastEnsemble ensemble_;
+  SigmaPointSet sigma_;
+  Eigen::VectorXd x_;
+  Eigen::MatrixXd L_;
+  Eigen::MatrixXd U_;
+};
+
+}  // namespace bcassim

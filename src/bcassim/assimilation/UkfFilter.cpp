@@ -1,0 +1,92 @@
+#include "bcassim/assimilation/UkfFilter.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "bcassim/Error.h"
+#include "bcassim/assimilation/CovarianceRepair.h"
+#include "bcassim/assimilation/ObservedSubset.h"
+#include "bcassim/assimilation/StarSigmaPoints.h"
+
+namespace bcassim {
+namespace {
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+}  // namespace
+
+UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
+                     UkfOptions options)
+    : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone),
+      options_(std::move(options)) {
+  const StochasticState& s = ensemble_.layout();
+  const Eigen::Index n = s.size();
+  if (options_.processVariance.size() != 0 && options_.processVariance.size() != n)
+    throw InputError(fmt::format("process noise has {} variances, the stochastic state {} entries",
+                                 options_.processVariance.size(), n));
+  sigma_ = options_.sigmaPoints == SigmaPointKind::Star ? starSigmaPoints(n, options_.starKappa)
+                                                        : makeSigmaPoints(options_.sigmaPoints, n);
+  x_ = s.initialMean();
+  P_ = s.initialStddev().array().square().matrix().asDiagonal();
+}
+
+void UkfFilter::reset(Eigen::VectorXd mean, Eigen::MatrixXd covariance) {
+  const Eigen::Index n = ensemble_.layout().size();
+  if (mean.size() != n || covariance.rows() != n || covariance.cols() != n)
+    throw InputError(fmt::format("UKF state must have {} entries and a {}x{} covariance", n, n, n));
+  x_ = std::move(mean);
+  P_ = std::move(covariance);
+}
+
+FilterStepReport UkfFilter::step(const Observation& y) {
+  const auto start = Clock::now();
+  const ObservedSubset obs(y, ensemble_.observationSize());
+  FilterStepReport report;
+  RepairLog repairs;
+
+  // Prediction (Alg. 1 lines 9-14).
+  const Eigen::MatrixXd X = sigma_.points(x_, choleskyWithRepair(P_, repairs));
+  Eigen::MatrixXd Xf, Z;
+  const auto forecastStart = Clock::now();
+  ensemble_.forecast(X, Xf, Z);
+  report.seconds.forecast = secondsSince(forecastStart);
+
+  const auto correctionStart = Clock::now();
+  const Eigen::VectorXd& w = sigma_.weights;
+  x_ = sigma_.meanOf(Xf);
+  const Eigen::MatrixXd dX = Xf.colwise() - x_;
+  P_ = dX * w.asDiagonal() * dX.transpose();
+  if (options_.processVariance.size() != 0) P_.diagonal() += options_.processVariance;
+
+  // Correction (Alg. 1 lines 17-24) with the present entries only.
+  if (!obs.empty()) {
+    const Eigen::MatrixXd Zs = obs.selectRows(Z);
+    const Eigen::VectorXd zMean = Zs * w;
+    const Eigen::MatrixXd dZ = Zs.colwise() - zMean;
+    const Eigen::MatrixXd Pxz = dX * w.asDiagonal() * dZ.transpose();
+    const Eigen::MatrixXd Pz = dZ * w.asDiagonal() * dZ.transpose() + obs.covariance();
+    const Eigen::VectorXd innovation = obs.values() - zMean;
+    // With Pz = C C^T and G = C^-1 Pxz^T: K nu = G^T C^-1 nu and K Pxz^T = G^T G, which keeps the
+    // corrected covariance symmetric by construction.
+    const Eigen::MatrixXd C = choleskyWithRepair(Pz, repairs);
+    const auto Cl = C.triangularView<Eigen::Lower>();
+    const Eigen::MatrixXd G = Cl.solve(Pxz.transpose());
+    x_ += G.transpose() * Cl.solve(innovation);
+    P_ -= G.transpose() * G;
+    report.innovationNorm = innovation.norm();
+    report.observed = obs.size();
+  }
+  report.seconds.correction = secondsSince(correctionStart);
+
+  ensemble_.endStep(x_);
+  ensemble_.layout().toReported(x_, P_.diagonal().cwiseMax(0.0).cwiseSqrt(), report.mean,
+                                report.stddev);
+  report.covarianceRepairs = repairs.repairs;
+  report.largestJitter = repairs.largestJitter;
+  report.seconds.total = secondsSince(start);
+  return report;
+}
+
+}  // namespace bcassim

@@ -1,0 +1,44 @@
+// Unscented Kalman filter on the full stochastic state (thesis Alg. 1, eq. 3.3 and 3.8) with star,
+// canonical or simplex sigma points.
+#pragma once
+#include <vector>
+
+#include "bcassim/assimilation/Filter.h"
+#include "bcassim/assimilation/FilterOptions.h"
+#include "bcassim/assimilation/ForecastEnsemble.h"
+#include "bcassim/assimilation/SigmaPointSet.h"
+
+namespace bcassim {
+
+struct UkfOptions : FilterOptions {
+  SigmaPointKind sigmaPoints = SigmaPointKind::Star;
+  double starKappa = 0.0;  // see starSigmaPoints()
+  // Diagonal process noise Q (unconstrained variances, one per stochastic state entry) added to the
+  // predicted covariance (Alg. 1 line 14); empty = none. The correction does not see it in the
+  // predicted observations, as in the thesis: on parameters that is exact for a linear model.
+  Eigen::VectorXd processVariance;
+};
+
+class UkfFilter final : public Filter {
+ public:
+  // Starts from the layout's initial mean and diagonal covariance. Throws InputError on sizes.
+  UkfFilter(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
+            UkfOptions options = {});
+
+  FilterStepReport step(const Observation& y) override;
+  const Eigen::VectorXd& mean() const override { return x_; }
+  Eigen::MatrixXd covariance() const override { return P_; }
+
+  // Replaces the estimate (restoring a checkpoint, or a prior with correlations). A covariance that
+  // is not positive definite is repaired at the next step and reported there.
+  void reset(Eigen::VectorXd mean, Eigen::MatrixXd covariance);
+
+ private:
+  ForecastEnsemble ensemble_;
+  UkfOptions options_;
+  SigmaPointSet sigma_;
+  Eigen::VectorXd x_;
+  Eigen::MatrixXd P_;
+};
+
+}  // namespace bcassim
