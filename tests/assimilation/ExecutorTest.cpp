@@ -1,6 +1,8 @@
 // Parallel forecasts give the same bits as serial ones, every task runs once on its own worker,
 // and firstSigmaPointAlone finishes the first forecast before any other starts.
 #include <gtest/gtest.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 
 #include <atomic>
 #include <mutex>
@@ -141,6 +143,47 @@ TEST(Executor, FirstSigmaPointAloneFinishesBeforeTheOthersStart) {
     EXPECT_EQ(log[0].param, mean);
     EXPECT_EQ(log[1].param, mean);
   }
+}
+
+// A model that itself uses TBB, as a parallel FEM assembly does, and notices if a second forecast
+// enters the same instance while the first waits for its inner loop.
+class NestedTbbModel final : public ForecastModel {
+ public:
+  std::atomic<bool> reentered = false;
+  Eigen::Index stateSize() const override { return 1; }
+  Eigen::Index observationSize() const override { return 1; }
+  void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
+                Eigen::VectorXd& newState, Eigen::VectorXd& predicted) override {
+    if (inside_.exchange(true)) reentered = true;
+    const double sum = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, 20000, 100), 0.0,
+        [&](const tbb::blocked_range<int>& r, double acc) {
+          for (int i = r.begin(); i != r.end(); ++i) acc += std::sin(i * params[0]) * 1e-6;
+          return acc;
+        },
+        std::plus<>());
+    newState = Eigen::VectorXd::Constant(1, 0.9 * state[0] + params[0] + 1e-9 * sum);
+    predicted = newState;
+    inside_ = false;
+  }
+  void endStep(const Eigen::VectorXd&, const Eigen::VectorXd&) override {}
+
+ private:
+  std::atomic<bool> inside_ = false;
+};
+
+TEST(Executor, ForecastsThatUseTbbInsideNeverShareAModel) {
+  NestedTbbModel a, b;
+  ThreadPoolExecutor pool(2);
+  EtkfOptions options;
+  options.members = 16;
+  EtkfFilter etkf(StochasticState(Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 0.1),
+                                  {{"p", 1.0, 0.5, {}}}),
+                  {&a, &b}, pool, options);
+  for (int i = 0; i < 20; ++i)
+    etkf.step(Observation::withSigma(Eigen::VectorXd::Constant(1, 5.0), 0.1));
+  EXPECT_FALSE(a.reentered.load());
+  EXPECT_FALSE(b.reentered.load());
 }
 
 TEST(Executor, FiltersRefuseTooFewModels) {
