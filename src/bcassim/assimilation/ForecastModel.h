@@ -21,11 +21,13 @@ namespace bcassim {
 //    analysed mean. The model moves its reference to the next time step: the next forecasts start
 //    from this mean (with parameter-only estimation, the model continues its mechanical state
 //    with the analysed parameters, e.g. by re-running the step or keeping the forecast closest to
-//    the mean).
+//    the mean). ETKF members each carry their own physical part, but any quantity kept only in
+//    the reference is shared by all members: carry in the state whatever should differ per member.
 //  * With FilterOptions::firstSigmaPointAlone, the first forecast of each step returns before any
-//    other forecast of that step starts. A model may therefore factorise its system matrix during
-//    the first forecast after endStep() and share it, read-only, as a preconditioner with the
-//    other instances (thesis Alg. 4/5); how they share it is the model's business.
+//    other forecast of that step starts; it runs on instance 0 (with star sigma points it is the
+//    mean itself). A model may therefore factorise its system matrix during the first forecast
+//    after endStep() and share it, read-only, as a preconditioner with the other instances
+//    (thesis Alg. 4/5); how they share it is the model's business.
 //  * Errors are thrown (NumericalError for a diverged step); the filter does not catch them.
 class ForecastModel {
  public:
