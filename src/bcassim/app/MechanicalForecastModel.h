@@ -1,0 +1,77 @@
+// The one place where the FEM meets the filter: implements ForecastModel (simulate one step from a
+// given state and parameters; predict marker positions) over a MechanicalModel and implicit Euler.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "bcassim/app/ModelParameter.h"
+#include "bcassim/assimilation/ForecastModel.h"
+#include "bcassim/mechanics/ImplicitEuler.h"
+#include "bcassim/mechanics/solvers/CholeskyFactor.h"
+#include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
+#include "bcassim/mesh/BarycentricMap.h"
+
+namespace bcassim {
+
+struct ForecastStateLayout {
+  bool positions = true;   // carry node positions (3N) in the stochastic state
+  bool velocities = true;  // carry node velocities (3N) after the positions
+};
+
+// Where the first sigma point's factorisation is published for the other workers of a step
+// (thesis Alg. 4/5). Shared by all workers of one filter; written only by worker 0 while the
+// others wait (FilterOptions::firstSigmaPointAlone).
+struct SharedFactorization {
+  std::shared_ptr<CholeskyFactor> factor;
+};
+
+struct ForecastModelOptions {
+  ForecastStateLayout layout;
+  std::string solver = "factorized-pcg";  // any makeLinearSolver name
+  RefreshPolicy refresh;                  // factorized-pcg policy
+  // Share worker 0's factorisation with the other workers (needs firstSigmaPointAlone).
+  bool shareFactorization = true;
+};
+
+class MechanicalForecastModel final : public ForecastModel {
+ public:
+  // `model` is copied (each worker owns its mechanics); `observed` are the marker points;
+  // `parameters` say what each estimated scalar sets; `initial` is the reference state at t0.
+  MechanicalForecastModel(const MechanicalModel& model, ImplicitEulerOptions integrator,
+                          std::vector<MappedPoint> observed,
+                          std::vector<ModelParameterTarget> parameters, const MechanicalState& initial,
+                          ForecastModelOptions options, int worker,
+                          std::shared_ptr<SharedFactorization> shared);
+
+  Eigen::Index stateSize() const override;
+  Eigen::Index observationSize() const override { return 3 * static_cast<Eigen::Index>(observed_.size()); }
+  void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
+                Eigen::VectorXd& newState, Eigen::VectorXd& predicted) override;
+  void endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) override;
+
+  // The stochastic physical part of a mechanical state, per the layout (for the initial mean).
+  Eigen::VectorXd packState(const MechanicalState& s) const;
+  // Reference (analysed) mechanical state: the mean the next step starts from.
+  const MechanicalState& reference() const { return reference_; }
+  const MechanicalModel& model() const { return model_; }
+  // Predicted positions of any mapped points in the reference state (validation points, tumours).
+  Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
+  // Timings of this worker's last forecast (assembly / solve), for benchmarks.
+  const StepTimings& lastTimings() const { return integrator_.lastTimings(); }
+
+ private:
+  void unpackState(const Eigen::VectorXd& state, MechanicalState& s) const;
+  void setParameters(const Eigen::VectorXd& params);
+  void observe(const MechanicalState& s, Eigen::VectorXd& predicted) const;
+
+  MechanicalModel model_;
+  ImplicitEuler integrator_;
+  std::vector<MappedPoint> observed_;
+  std::vector<ModelParameterTarget> parameters_;
+  MechanicalState reference_, work_;
+  ForecastModelOptions options_;
+  int worker_;
+  std::shared_ptr<SharedFactorization> shared_;
+};
+
+}  // namespace bcassim
