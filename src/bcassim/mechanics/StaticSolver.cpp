@@ -72,12 +72,17 @@ StaticReport StaticSolver::solve(const MechanicalModel& model, double t, Eigen::
       // while K is positive definite.
       const double p0 = potential(x);
       const double slope = g.dot(dx);
+      const Eigen::Index inverted0 = model.elasticity.countInverted(x);
       double alpha = 1.0;
       for (int ls = 0; ls < 30; ++ls) {
         trial = x + alpha * dx;
         const double p = potential(trial);
-        // Round-off in the energy sum allows a relative slack, else converged steps would be refused.
-        if (std::isfinite(p) && p <= p0 + 1e-4 * alpha * std::min(slope, 0.0) + 1e-12 * std::abs(p0))
+        // Round-off in the energy sum allows a relative slack, else converged steps would be
+        // refused. Steps that invert elements are refused too: StVK's energy is not coercive, so
+        // inverting a tet can lower it and Newton would otherwise walk into a collapsed state.
+        if (std::isfinite(p) &&
+            p <= p0 + 1e-4 * alpha * std::min(slope, 0.0) + 1e-12 * std::abs(p0) &&
+            model.elasticity.countInverted(trial) <= inverted0)
           break;
         alpha *= 0.5;
       }

@@ -65,6 +65,15 @@ double TetElasticity::energy(const Eigen::VectorXd& x) const {
   return W;
 }
 
+Eigen::Index TetElasticity::countInverted(const Eigen::VectorXd& x) const {
+  Eigen::Index inverted = 0;
+  for (Eigen::Index t = 0; t < T_.rows(); ++t) {
+    const Eigen::Vector4i tet = T_.row(t);
+    if (deformationGradient(x, tet, gradN_[t]).determinant() <= 0) ++inverted;
+  }
+  return inverted;
+}
+
 void TetElasticity::addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
   Eigen::Index inverted = 0;
   forEachRegion([&](const auto& material, const std::vector<int>& tets) {

@@ -28,6 +28,8 @@ class TetElasticity {
   void setMaterial(int region, const Material& m) { materials_[region] = m; }
   int numRegions() const { return static_cast<int>(materials_.size()); }
   double restVolume(Eigen::Index t) const { return volume_[t]; }
+  // Number of tets with det F <= 0 at positions x.
+  Eigen::Index countInverted(const Eigen::VectorXd& x) const;
   // Number of tets with det F <= 0 met by the last force evaluation (0 in a healthy simulation).
   Eigen::Index lastInvertedCount() const { return inverted_; }
 
