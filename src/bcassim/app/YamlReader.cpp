@@ -1,6 +1,7 @@
 #include "bcassim/app/YamlReader.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 
@@ -138,7 +139,27 @@ std::vector<YAML::Node> listElements(const YamlSource& source, const YAML::Node&
   return out;
 }
 
-std::string resolvePath(const std::string& directory, const std::string& path) {
+// ${NAME} in a path is replaced by the environment variable NAME, taken relative to the working
+// directory; ${BCASSIM_DATA} defaults to ../shared/data, where `make` finds the shared data.
+static std::string expandVariables(const std::string& path) {
+  std::string out;
+  size_t at = 0;
+  while (true) {
+    const size_t open = path.find("${", at);
+    const size_t close = open == std::string::npos ? open : path.find('}', open);
+    if (close == std::string::npos) return out + path.substr(at);
+    const std::string name = path.substr(open + 2, close - open - 2);
+    const char* value = std::getenv(name.c_str());
+    std::string text = value ? value : (name == "BCASSIM_DATA" ? "../shared/data" : "");
+    std::error_code ec;
+    if (!text.empty()) text = std::filesystem::absolute(text, ec).string();
+    out += path.substr(at, open - at) + text;
+    at = close + 1;
+  }
+}
+
+std::string resolvePath(const std::string& directory, const std::string& rawPath) {
+  const std::string path = expandVariables(rawPath);
   std::filesystem::path p(path);
   if (p.is_relative()) p = std::filesystem::path(directory) / p;
   std::error_code ec;
