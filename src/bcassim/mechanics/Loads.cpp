@@ -29,19 +29,12 @@ Vec3 ControlPointSet::displacementAt(double t) const {
   return (1 - w) * displacements_.row(i - 1).transpose() + w * displacements_.row(i).transpose();
 }
 
-namespace {
-Vec3 mappedPosition(const TetMesh& mesh, const MappedPoint& p, const Eigen::VectorXd& x) {
-  Vec3 r = Vec3::Zero();
-  for (int a = 0; a < 4; ++a) r += p.weights(a) * x.segment<3>(3 * mesh.T(p.tet, a));
-  return r;
-}
-}  // namespace
 
 double ControlPointSet::energy(const TetMesh& mesh, const Eigen::VectorXd& x, double t) const {
   const Vec3 d = displacementAt(t);
   double W = 0;
   for (size_t i = 0; i < points_.size(); ++i) {
-    const Vec3 gap = mappedPosition(mesh, points_[i], x) - rest_.row(i).transpose() - d;
+    const Vec3 gap = interpolate(points_[i], mesh, x) - rest_.row(i).transpose() - d;
     W += 0.5 * stiffness_ * gap.squaredNorm();
   }
   return W;
@@ -53,7 +46,7 @@ void ControlPointSet::addInternalForces(const TetMesh& mesh, const Eigen::Vector
   for (size_t i = 0; i < points_.size(); ++i) {
     const MappedPoint& p = points_[i];
     const Vec3 force =
-        stiffness_ * (mappedPosition(mesh, p, x) - rest_.row(i).transpose() - d);
+        stiffness_ * (interpolate(p, mesh, x) - rest_.row(i).transpose() - d);
     for (int a = 0; a < 4; ++a) f.segment<3>(3 * mesh.T(p.tet, a)) += p.weights(a) * force;
   }
 }
