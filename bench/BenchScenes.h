@@ -144,7 +144,8 @@ inline void addMeshCounters(benchmark::State& state, const MechanicalModel& mode
 }
 
 // Threads for TBB-parallel code (BCASSIM_BENCH_THREADS, default 1: the targets are per core).
-// CHOLMOD's OpenMP loops follow OMP_NUM_THREADS, which scripts/bench.sh sets to the same value.
+// CHOLMOD's OpenMP regions ask for 4 threads whatever OMP_NUM_THREADS says; scripts/bench.sh caps
+// them with OMP_THREAD_LIMIT (read by libgomp at load time, so it cannot be set from here).
 inline int benchThreads() {
   const char* env = std::getenv("BCASSIM_BENCH_THREADS");
   const int n = env ? std::atoi(env) : 1;

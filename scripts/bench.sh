@@ -10,6 +10,7 @@
 #   BENCH_FILTER            regex passed to --benchmark_filter (default: all)
 #   BENCH_OUT               output folder (default out/bench)
 #   BCASSIM_BENCH_THREADS   threads for TBB and CHOLMOD's OpenMP (default 1: targets are per core)
+#   BENCH_SUMMARY_ONLY=1    only print the summary of the JSON already in BENCH_OUT
 set -euo pipefail
 
 BUILD=${1:-build}
@@ -18,6 +19,10 @@ FILTER=${BENCH_FILTER:-.}
 OUT=${BENCH_OUT:-out/bench}
 export BCASSIM_BENCH_THREADS=${BCASSIM_BENCH_THREADS:-1}
 export OMP_NUM_THREADS=$BCASSIM_BENCH_THREADS
+# CHOLMOD 3's supernodal factorisation asks for num_threads(4) (CHOLMOD_OMP_NUM_THREADS, compiled
+# in), which OMP_NUM_THREADS does not override; only the thread limit caps it. Without this the
+# factorisation runs 4 OpenMP threads on 2 cores and takes 2-4x longer in wall-clock time.
+export OMP_THREAD_LIMIT=$BCASSIM_BENCH_THREADS
 export OPENBLAS_NUM_THREADS=$BCASSIM_BENCH_THREADS
 
 shopt -s nullglob
@@ -31,6 +36,7 @@ if [[ ${#exes[@]} -eq 0 ]]; then
 fi
 
 mkdir -p "$OUT"
+if [[ ${BENCH_SUMMARY_ONLY:-0} != 1 ]]; then
 {
   echo "date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
   echo "commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
@@ -47,6 +53,7 @@ for exe in "${exes[@]}"; do
     --benchmark_filter="$FILTER" \
     --benchmark_out="$OUT/$name.json" --benchmark_out_format=json | tee "$OUT/$name.txt"
 done
+fi
 
 python3 - "$OUT" <<'EOF' | tee "$OUT/summary.md"
 import glob, json, os, re, sys
@@ -92,23 +99,25 @@ for kind in ["step_cholmod", "step_factorized_pcg", "assembly"]:
     if "corotational" not in got:
         continue
     print(f"\n## Thesis Table 2.1 analogue: beam26000/{kind}\n")
-    print("| material | bcassim ms | ratio to corotational | thesis ms | thesis ratio |")
-    print("|---|---:|---:|---:|---:|")
+    cpu = {m: rows[f"beam26000/{kind}/{m}"][2] for m in got}
+    print("| material | wall ms | wall ratio | CPU ms | CPU ratio | thesis ms | thesis ratio |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
     for m, ms in got.items():
         t = thesis.get(m)
         tr = f"{t / thesis['corotational']:.3f}" if t else "-"
-        print(f"| {m} | {ms:.2f} | {ms / got['corotational']:.3f} | {t if t else '-'} | {tr} |")
+        print(f"| {m} | {ms:.2f} | {ms / got['corotational']:.3f} | {cpu[m]:.2f} | "
+              f"{cpu[m] / cpu['corotational']:.3f} | {t if t else '-'} | {tr} |")
 
 targets = [("beam8600/assembly/stvk", 5.0, "StVK force+tangent assembly, ~8,600 tets, one core"),
            ("cylinder2200/step_factorized_pcg", 10.0, "reuse-PCG implicit-Euler step, ~2,200 nodes")]
 print("\n## Targets\n")
-print("| target | benchmark | limit ms | median ms | median CPU ms | met (wall) |")
+print("| target | benchmark | limit ms | median wall ms | median CPU ms | met (wall / CPU) |")
 print("|---|---|---:|---:|---:|---|")
 for name, limit, what in targets:
     if name not in rows:
         continue
     ms, cpu = rows[name][0], rows[name][2]
-    verdict = "yes" if ms <= limit else f"NO ({ms / limit:.2f}x the limit)"
+    verdict = " / ".join("yes" if v <= limit else f"NO ({v / limit:.2f}x)" for v in (ms, cpu))
     print(f"| {what} | {name} | {limit:g} | {ms:.3f} | {cpu:.3f} | {verdict} |")
 EOF
 echo
