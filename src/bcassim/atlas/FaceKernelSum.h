@@ -1,0 +1,20 @@
+// Double sums over face pairs of the varifold (eq. 4.5) and current inner products:
+// <A, B> = sum_ij exp(-|c_i - d_j|^2 / sigma^2) g(n_i, m_j), with g = (n.m)^2 / (|n||m|)
+// (varifold, blind to orientation) or g = n.m (current).
+#pragma once
+#include <Eigen/Core>
+
+#include "bcassim/atlas/OrientedFaces.h"
+
+namespace bcassim {
+
+enum class FaceKernelKind { Varifold, Current };
+
+// Returns <a, b>. When gc and gn are non-null they receive d<a, b>/dc_i and d<a, b>/dn_i
+// (#a by 3 each, resized) with b held fixed. sigma: kernel width (m).
+// Blocked over (i, j) tiles, vectorised over j, parallel over blocks of i; deterministic.
+double faceKernelSum(const OrientedFaces& a, const OrientedFaces& b, double sigma,
+                     FaceKernelKind kind, Eigen::MatrixX3d* gc = nullptr,
+                     Eigen::MatrixX3d* gn = nullptr);
+
+}  // namespace bcassim
