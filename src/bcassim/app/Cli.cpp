@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <map>
@@ -11,6 +13,8 @@
 #include <string>
 
 #include "bcassim/Error.h"
+#include "bcassim/app/AssimilationProgressBar.h"
+#include "bcassim/app/AssimilationRunner.h"
 #include "bcassim/app/ProgressBar.h"
 #include "bcassim/app/SceneLoader.h"
 #include "bcassim/app/SimulationRunner.h"
@@ -75,6 +79,121 @@ int simulate(const std::string& scenePath, const std::string& outDir, bool quiet
   return 0;
 }
 
+// scripts/plot_assimilation.py: $BCASSIM_PLOT_SCRIPT, else beside the executable's parent
+// (a build directory in the source tree) or in its share/bcassim (an installed tree).
+std::string findPlotScript() {
+  if (const char* env = std::getenv("BCASSIM_PLOT_SCRIPT")) return env;
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  const std::filesystem::path root = exe.parent_path().parent_path();
+  for (const auto& candidate : {root / "scripts" / "plot_assimilation.py",
+                                root / "share" / "bcassim" / "plot_assimilation.py"})
+    if (std::filesystem::is_regular_file(candidate, ec)) return candidate.string();
+  return {};
+}
+
+std::string shellQuote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// PNG plots of an output directory when python3 with matplotlib is there; one line either way.
+void plot(const std::string& outDir) {
+  const std::string script = findPlotScript();
+  if (script.empty()) {
+    fmt::print("plots skipped: scripts/plot_assimilation.py not found (set BCASSIM_PLOT_SCRIPT)\n");
+    return;
+  }
+  // The first python3 on PATH may be a private one (pyenv, venv) without the Debian package.
+  std::string python;
+  for (const char* candidate : {"python3", "/usr/bin/python3"}) {
+    const std::string probe = std::string(candidate) + " -c 'import matplotlib' > /dev/null 2>&1";
+    if (std::system(probe.c_str()) == 0) {
+      python = candidate;
+      break;
+    }
+  }
+  if (python.empty()) {
+    fmt::print(
+        "plots skipped: python3 with matplotlib not found (apt-get install "
+        "python3-matplotlib)\n");
+    return;
+  }
+  std::fflush(stdout);
+  const std::string cmd = python + " " + shellQuote(script) + " " + shellQuote(outDir);
+  if (std::system(cmd.c_str()) != 0)
+    fmt::print("plots failed: {} (the CSV files are complete)\n", cmd);
+}
+
+const char* filterName(FilterKind k) {
+  return k == FilterKind::Ukf ? "ukf" : k == FilterKind::Roukf ? "roukf" : "etkf";
+}
+
+void printSceneLine(const std::string& scenePath, const Scene& scene) {
+  const AssimilationSettings& s = *scene.assimilation;
+  fmt::print(
+      "scene {}: {} nodes, {} markers, {} validation points, {} parameter{}, filter {}, "
+      "{} thread{}, {} steps of {:.6g} s, observations until step {}\n",
+      scenePath, scene.model.mesh->numNodes(), scene.markers.points.size(),
+      scene.validation.points.size(), s.parameters.size(), s.parameters.size() == 1 ? "" : "s",
+      filterName(s.filter), s.threads, s.threads == 1 ? "" : "s", scene.steps, scene.dt(),
+      std::min(s.observations.untilStep, scene.steps));
+  std::fflush(stdout);
+}
+
+void printSummary(const AssimilationResult& r, bool assimilated) {
+  fmt::print("\n{:<14} {:>24} {:>24} {:>12} {:>10}\n", "parameter", "initial",
+             assimilated ? "estimate" : "validated", "truth", "error");
+  for (const ParameterResult& p : r.parameters) {
+    const std::string truth = p.truth ? fmt::format("{:.6g}", *p.truth) : "-";
+    const std::string error = p.truth && *p.truth != 0
+                                  ? fmt::format("{:+.2f}%", 100 * (p.mean - *p.truth) / *p.truth)
+                                  : "-";
+    fmt::print("{:<14} {:>24} {:>24} {:>12} {:>10}\n", p.name,
+               fmt::format("{:.6g} ± {:.3g}", p.initialMean, p.initialStddev),
+               fmt::format("{:.6g} ± {:.3g}", p.mean, p.stddev), truth, error);
+  }
+  if (r.validated) {
+    fmt::print("\nvalidation error, relative to the truth's max deformation {:.4g} mm:\n",
+               1e3 * r.maxDeformationM);
+    const auto line = [](const char* name, const ErrorResult& e) {
+      if (e.steps == 0) return;
+      fmt::print("  {:<22} mean {:7.3f}% ({:.4g} mm)   max {:7.3f}% ({:.4g} mm)   {} steps\n", name,
+                 e.meanPercent, 1e3 * e.meanM, e.maxPercent, 1e3 * e.maxM, e.steps);
+    };
+    line(assimilated ? "estimated" : "final parameters", r.estimated.all);
+    line("  free run", r.estimated.freeRun);
+    line("initial parameters", r.initial.all);
+    line("  free run", r.initial.freeRun);
+  } else {
+    fmt::print("no validation (assimilation.validation.tracks not given)\n");
+  }
+  fmt::print("{}: median {:.3g} ms/step (mean {:.3g}), {:.3g} s in all -> {}\n",
+             assimilated ? "assimilation" : "validation", r.medianStepMs, r.meanStepMs,
+             r.wallSeconds, r.outDir);
+}
+
+int assimilate(const std::string& scenePath, const std::string& estimatesPath,
+               const std::string& outDir, bool quiet, bool plots) {
+  const Scene scene = loadScene(scenePath);
+  if (!scene.assimilation)
+    throw InputError(scenePath + ": no assimilation: section (see docs/assimilation-format.md)");
+  printSceneLine(scenePath, scene);
+  AssimilationProgressBar bar(stderr);
+  AssimilationCallback progress;
+  if (!quiet) progress = [&bar](const AssimilationProgress& p) { bar.update(p); };
+  const bool validating = !estimatesPath.empty();
+  const AssimilationResult result = validating
+                                        ? runValidation(scene, estimatesPath, outDir, progress)
+                                        : runAssimilation(scene, outDir, progress);
+  bar.finish();
+  printSummary(result, !validating);
+  if (plots) plot(outDir);
+  return 0;
+}
+
 int meshInfo(const std::string& path, const std::string& regionField) {
   const TetMesh mesh = readTetMesh(path, regionField);
   const MeshQuality q = measureQuality(mesh);
@@ -110,6 +229,25 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   sim->add_flag("-q,--quiet", quiet, "No progress bar");
 
+  bool noPlots = false;
+  std::string estimatesPath;
+  CLI::App* assim =
+      app.add_subcommand("assimilate", "Estimate a scene's parameters from observed tracks");
+  assim->add_option("scene", scenePath, "Scene file with an assimilation: section")->required();
+  assim->add_option("-o,--out", outDir, "Output directory (created if missing)")
+      ->capture_default_str();
+  assim->add_flag("-q,--quiet", quiet, "No progress bar");
+  assim->add_flag("--no-plots", noPlots, "Do not draw the PNG plots");
+  CLI::App* val = app.add_subcommand(
+      "validate", "Forward run with estimated parameters against the truth validation tracks");
+  val->add_option("scene", scenePath, "Scene file with an assimilation: section")->required();
+  val->add_option("--estimates", estimatesPath, "estimates.csv of an assimilate run (last step)")
+      ->required();
+  val->add_option("-o,--out", outDir, "Output directory (created if missing)")
+      ->capture_default_str();
+  val->add_flag("-q,--quiet", quiet, "No progress bar");
+  val->add_flag("--no-plots", noPlots, "Do not draw the PNG plots");
+
   CLI::App* mesh = app.add_subcommand("mesh", "Mesh tools");
   mesh->require_subcommand(1);
   std::string meshPath, regionField;
@@ -127,6 +265,8 @@ int run(int argc, char** argv) {
   }
   if (sim->parsed()) return simulate(scenePath, outDir, quiet);
   if (info->parsed()) return meshInfo(meshPath, regionField);
+  if (assim->parsed()) return assimilate(scenePath, "", outDir, quiet, !noPlots);
+  if (val->parsed()) return assimilate(scenePath, estimatesPath, outDir, quiet, !noPlots);
   return kExitInput;
 }
 

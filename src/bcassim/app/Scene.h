@@ -1,10 +1,12 @@
 // A simulation scene ready to run: the mechanical model built from a YAML scene file, how to
 // integrate it, what to observe (markers) and what to write. Built by loadScene (SceneLoader.h).
 #pragma once
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "bcassim/app/AssimilationSettings.h"
 #include "bcassim/mechanics/ImplicitEuler.h"
 #include "bcassim/mechanics/MechanicalModel.h"
 #include "bcassim/mechanics/StaticSolver.h"
@@ -46,7 +48,12 @@ struct Scene {
   int steps = 100;
 
   MarkerSet markers;
+  // Points whose error against the truth validates an estimate (validation_points:); written as
+  // validation.csv by simulate runs.
+  MarkerSet validation;
   OutputSettings output;
+  // The scene's assimilation: section, read by every command; only assimilate and validate use it.
+  std::optional<AssimilationSettings> assimilation;
 
   // Other versions of this scene (the base's YAML with the variant's keys merged in), run after
   // it and compared with it. Variants have no variants of their own.

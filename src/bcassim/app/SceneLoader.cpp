@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "bcassim/Error.h"
+#include "bcassim/app/AssimilationSettingsReader.h"
 #include "bcassim/app/NodePoints.h"
 #include "bcassim/app/RegionReader.h"
 #include "bcassim/app/YamlReader.h"
@@ -371,6 +372,28 @@ MarkerSet readMarkers(const YamlSource& src, const MapReader& top, const TetMesh
   return all;
 }
 
+// Validation points: every node (nodes: all), or one entry of the markers' kinds.
+MarkerSet readValidationPoints(const YamlSource& src, const MapReader& top, const TetMesh& mesh) {
+  if (!top.has("validation_points")) return {};
+  const std::string path = "validation_points";
+  MapReader r(src, top.node(path), path, {"nodes", "region", "count", "points", "file"});
+  const int given = (r.has("nodes") ? 1 : 0) + (r.has("region") ? 1 : 0) +
+                    (r.has("points") ? 1 : 0) + (r.has("file") ? 1 : 0);
+  if (given != 1)
+    failAt(src, top.node(path), path, "expected exactly one of nodes (all), region, points, file");
+  r.rejectUnless(r.has("region"), "count", "validation points given by a region");
+  if (!r.has("nodes")) return readMappedPoints(src, r, path, mesh, true, r.integer("count", 0));
+  if (r.text("nodes", "") != "all")
+    r.fail("nodes", "expected 'all' (every mesh node), got " + app::describe(r.node("nodes")));
+  const std::vector<int> tetOf = tetOfEachNode(mesh);
+  MarkerSet set;
+  set.rest = mesh.V;
+  for (Eigen::Index n = 0; n < mesh.numNodes(); ++n)
+    app::withContext(src, r.node("nodes"), r.pathOf("nodes"),
+                     [&] { set.points.push_back(mappedNode(mesh, tetOf, static_cast<int>(n))); });
+  return set;
+}
+
 // The control trajectory CSV: time,dx,dy,dz (s, m), header optional.
 void readTrajectory(const std::string& path, std::vector<double>& times, Eigen::MatrixX3d& d) {
   const CsvTable table = readCsvTable(path);
@@ -429,9 +452,10 @@ std::vector<ControlPointSet> readControls(const YamlSource& src, const MapReader
 }
 
 const std::vector<std::string> kSceneKeys = {
-    "mesh",    "material",       "materials",  "density", "mass",    "gravity",
-    "damping", "time",           "integrator", "solver",  "fixed",   "loads",
-    "springs", "control_points", "markers",    "output",  "variants"};
+    "mesh",        "material",       "materials",  "density", "mass",     "gravity",
+    "damping",     "time",           "integrator", "solver",  "fixed",    "loads",
+    "springs",     "control_points", "markers",    "output",  "variants", "validation_points",
+    "assimilation"};
 
 Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVariants) {
   if (!root.IsDefined() || root.IsNull())
@@ -489,10 +513,18 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   model.springs = readSprings(src, top, *mesh);
   model.controls = readControls(src, top, *mesh);
   scene.markers = readMarkers(src, top, *mesh);
+  scene.validation = readValidationPoints(src, top, *mesh);
 
   MapReader output(src, top.node("output"), "output", {"every", "pvd"});
   scene.output.every = output.integer("every", 10, Range::AtLeastOne);
   scene.output.pvd = output.boolean("pvd", true);
+  // Variants are forward runs only; their merged YAML leaves the section out.
+  if (top.has("assimilation")) {
+    const AssimilationContext context{model, static_cast<int>(scene.markers.points.size()),
+                                      static_cast<int>(scene.validation.points.size()), scene.dt(),
+                                      scene.steps};
+    scene.assimilation = app::readAssimilationSettings(src, top.node("assimilation"), context);
+  }
   return scene;
 }
 
@@ -546,16 +578,18 @@ Scene loadFromText(const std::string& yaml, const YamlSource& src) {
       failAt(src, nameNode, path + ".name", "name '" + name + "' is used twice");
     YAML::Node merged = parse(yaml, src);  // a fresh copy: Clone() would lose the line numbers
     merged.remove("variants");
+    merged.remove("assimilation");
     YAML::Node overrides(YAML::NodeType::Map);
     for (const auto& kv : node) {
       const std::string key = kv.first.Scalar();
       if (key == "name") continue;
       bool known = false;
-      for (const std::string& k : kSceneKeys) known = known || (key == k && key != "variants");
+      for (const std::string& k : kSceneKeys)
+        known = known || (key == k && key != "variants" && key != "assimilation");
       if (!known) {
         std::string list = "name";
         for (const std::string& k : kSceneKeys)
-          if (k != "variants") list += ", " + k;
+          if (k != "variants" && k != "assimilation") list += ", " + k;
         failAt(src, kv.first, "",
                "unknown key '" + key + "' in " + path + "; expected one of " + list);
       }

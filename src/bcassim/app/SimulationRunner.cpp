@@ -32,12 +32,16 @@ std::ofstream openForWriting(const std::string& path) {
   return out;
 }
 
-Eigen::MatrixX3d markerPositions(const Scene& scene, const Eigen::VectorXd& x) {
-  const MarkerSet& markers = scene.markers;
-  Eigen::MatrixX3d P(markers.points.size(), 3);
-  for (size_t i = 0; i < markers.points.size(); ++i)
-    P.row(i) = interpolate(markers.points[i], *scene.model.mesh, x).transpose();
+Eigen::MatrixX3d pointPositions(const Scene& scene, const MarkerSet& set,
+                                const Eigen::VectorXd& x) {
+  Eigen::MatrixX3d P(set.points.size(), 3);
+  for (size_t i = 0; i < set.points.size(); ++i)
+    P.row(i) = interpolate(set.points[i], *scene.model.mesh, x).transpose();
   return P;
+}
+
+Eigen::MatrixX3d markerPositions(const Scene& scene, const Eigen::VectorXd& x) {
+  return pointPositions(scene, scene.markers, x);
 }
 
 // One ParaView frame: the mesh with displacement and stress, and the markers and springs parts.
@@ -113,6 +117,13 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
     writeFrame(scene, stress, state, markerPositions(scene, state.x), *series);
   }
   MarkerTrackWriter tracks((std::filesystem::path(dir) / "markers.csv").string());
+  // The validation points' truth for assimilation runs; frame 0 (rest) gives their displacements.
+  std::unique_ptr<MarkerTrackWriter> validation;
+  if (!scene.validation.points.empty()) {
+    validation = std::make_unique<MarkerTrackWriter>(
+        (std::filesystem::path(dir) / "validation.csv").string());
+    validation->write(state.t, pointPositions(scene, scene.validation, state.x));
+  }
   std::ofstream timing = openForWriting((std::filesystem::path(dir) / "timing.csv").string());
   timing << (statics ? "step,time_s,total_ms,newton_iterations\n"
                      : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations\n");
@@ -146,6 +157,7 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
                    (state.x.segment<3>(3 * i) - rest.segment<3>(3 * i)).norm());
     const Eigen::MatrixX3d markers = markerPositions(scene, state.x);
     tracks.write(state.t, markers);
+    if (validation) validation->write(state.t, pointPositions(scene, scene.validation, state.x));
     const Eigen::MatrixX3d u = markers - scene.markers.rest;
     if (u.rows() > 0)
       trace.result.maxMarkerDisplacement =

@@ -47,6 +47,7 @@ struct SimulationResult {
 //     point fields displacement_m, displacement_magnitude_m, cell field von_mises_Pa) and
 //     simulation_markers_*.vtp / simulation_springs_*.vtp parts when there are markers / springs
 //   markers.csv  time,marker,x,y,z after every step (s, index, m), flushed as it goes
+//   validation.csv  the same for the validation points, with a first frame at t = 0 (rest)
 //   timing.csv   per-step wall times in ms
 // and with variants, outDir/variants.csv (name, relative differences, mean step time).
 // progress (may be empty) is called after every step. Throws NumericalError when a step fails
