@@ -1,6 +1,5 @@
 #include "bcassim/atlas/FaceKernelSum.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -34,10 +33,15 @@ void tileRow(const OrientedFaces& b, Eigen::Index j0, Eigen::Index nj, double s,
   const double* my = b.ny.data() + j0;
   const double* mz = b.nz.data() + j0;
   const double* im = b.invNorm.data() + j0;
-  // Element-wise pass without reductions, so that the compiler vectorises it (fastExp included).
+  // Element-wise passes without reductions, so that the compiler vectorises them (fastExp
+  // included); the clamp gets its own pass (see FastExp.h).
   for (Eigen::Index j = 0; j < nj; ++j) {
     const double dx = cix - bx[j], dy = ciy - by[j], dz = ciz - bz[j];
-    const double e = detail::fastExpNonPositive(-(dx * dx + dy * dy + dz * dz) * s);
+    const double arg = -(dx * dx + dy * dy + dz * dz) * s;
+    k[j] = arg < detail::kFastExpMin ? detail::kFastExpMin : arg;
+  }
+  for (Eigen::Index j = 0; j < nj; ++j) {
+    const double e = detail::fastExp(k[j]);
     const double dot = nix * mx[j] + niy * my[j] + niz * mz[j];
     if constexpr (kKind == FaceKernelKind::Varifold) {
       t[j] = e * dot * im[j];
@@ -71,10 +75,12 @@ double sum(const OrientedFaces& a, const OrientedFaces& b, double sigma, Eigen::
     gc->resize(na, 3);
     gn->resize(na, 3);
   }
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, na, kBlockI), [&](const auto& r) {
+  // One task per block of kBlockI rows, so that the fixed-size accumulators always fit.
+  const Eigen::Index blocks = (na + kBlockI - 1) / kBlockI;
+  tbb::parallel_for(Eigen::Index(0), blocks, [&](Eigen::Index block) {
     RowSums acc[kBlockI];
     TileArray k, t;
-    const Eigen::Index i0 = r.begin(), ni = r.end() - r.begin();
+    const Eigen::Index i0 = block * kBlockI, ni = std::min(kBlockI, na - i0);
     for (Eigen::Index j0 = 0; j0 < nb; j0 += kTileJ) {
       const Eigen::Index nj = std::min(kTileJ, nb - j0);
       for (Eigen::Index l = 0; l < ni; ++l) {

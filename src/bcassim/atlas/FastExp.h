@@ -6,15 +6,19 @@
 
 namespace bcassim::detail {
 
-// Relative error below 3e-16 on [-700, 0]; arguments below -700 are clamped (exp(-700) ~ 1e-304
-// is negligible next to any kernel sum). Range reduction x = k ln2 + r, |r| <= ln2/2, then a
-// degree-12 Taylor polynomial of e^r, then 2^k assembled in the exponent bits.
-inline double fastExpNonPositive(double x) {
+// Lower end of fastExp's domain; exp(-700) ~ 1e-304 is negligible next to any kernel sum, so
+// callers clamp there.
+constexpr double kFastExpMin = -700.0;
+
+// Relative error below 4e-16 for x in [kFastExpMin, 0] (undefined outside). The clamp is left to
+// the caller, in a separate loop: GCC 12 does not vectorise a clamp and the bit tricks together.
+// Range reduction x = k ln2 + r, |r| <= ln2/2, a degree-12 Taylor polynomial of e^r, then 2^k
+// assembled in the exponent bits.
+inline double fastExp(double x) {
   constexpr double kLog2e = 1.4426950408889634;
   constexpr double kLn2Hi = 6.93147180369123816490e-01;
   constexpr double kLn2Lo = 1.90821492927058770002e-10;
   constexpr double kShifter = 6755399441055744.0;  // 1.5 * 2^52: rounds k into the low bits
-  x = x < -700.0 ? -700.0 : x;
   const double t = x * kLog2e + kShifter;
   const double k = t - kShifter;
   const double r = (x - k * kLn2Hi) - k * kLn2Lo;

@@ -5,6 +5,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bcassim/Error.h"
@@ -14,6 +15,9 @@ namespace bcassim {
 namespace {
 // Rows per parallel task: control-point sets are small (hundreds), meshes a few thousand points.
 constexpr Eigen::Index kGrain = 32;
+
+// exp(-y) for y >= 0.
+inline double expOfNegative(double y) { return detail::fastExp(std::max(-y, detail::kFastExpMin)); }
 
 // Per-thread accumulator of a #rows by 3 derivative that parallel tasks over the other index
 // scatter into; summed once at the end.
@@ -46,7 +50,7 @@ Eigen::MatrixX3d GaussianKernel::convolve(const Eigen::MatrixX3d& x, const Eigen
       double v0 = 0.0, v1 = 0.0, v2 = 0.0;
       for (Eigen::Index j = 0; j < y.rows(); ++j) {
         const double d0 = xi0 - y(j, 0), d1 = xi1 - y(j, 1), d2 = xi2 - y(j, 2);
-        const double k = detail::fastExpNonPositive(-(d0 * d0 + d1 * d1 + d2 * d2) * s);
+        const double k = expOfNegative((d0 * d0 + d1 * d1 + d2 * d2) * s);
         v0 += k * w(j, 0);
         v1 += k * w(j, 1);
         v2 += k * w(j, 2);
@@ -73,7 +77,7 @@ void GaussianKernel::convolveVjp(const Eigen::MatrixX3d& x, const Eigen::MatrixX
       Eigen::RowVector3d accX = Eigen::RowVector3d::Zero();
       for (Eigen::Index j = 0; j < y.rows(); ++j) {
         const Eigen::RowVector3d d = xi - y.row(j);
-        const double k = detail::fastExpNonPositive(-d.squaredNorm() * s);
+        const double k = expOfNegative(d.squaredNorm() * s);
         // d/dx_i of K(x_i, y_j) (eta_i . w_j) is K (eta_i . w_j) (-2/sigma^2) d.
         const Eigen::RowVector3d gd = (-2.0 * s * k * ei.dot(w.row(j))) * d;
         accX += gd;
@@ -100,7 +104,7 @@ Eigen::MatrixX3d GaussianKernel::hamiltonianGradient(const Eigen::MatrixX3d& q,
       Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
       for (Eigen::Index j = 0; j < q.rows(); ++j) {
         const Eigen::RowVector3d d = q.row(i) - q.row(j);
-        const double k = detail::fastExpNonPositive(-d.squaredNorm() * s);
+        const double k = expOfNegative(d.squaredNorm() * s);
         acc += (k * a.row(i).dot(a.row(j))) * d;
       }
       // Both occurrences of q_i in the double sum give the same term, cancelling the 1/2.
@@ -122,7 +126,7 @@ void GaussianKernel::hamiltonianGradientVjp(const Eigen::MatrixX3d& q, const Eig
       for (Eigen::Index j = 0; j < q.rows(); ++j) {
         const Eigen::RowVector3d d = q.row(i) - q.row(j);
         const Eigen::RowVector3d dxi = xi.row(i) - xi.row(j);
-        const double k = detail::fastExpNonPositive(-d.squaredNorm() * s);
+        const double k = expOfNegative(d.squaredNorm() * s);
         const double dxiDotD = dxi.dot(d);
         accQ += (k * a.row(i).dot(a.row(j))) * (dxi - (2.0 * s * dxiDotD) * d);
         accA += (k * dxiDotD) * a.row(j);
