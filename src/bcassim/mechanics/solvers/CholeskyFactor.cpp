@@ -1,5 +1,7 @@
 #include "bcassim/mechanics/solvers/CholeskyFactor.h"
 
+#include <omp.h>
+
 #include <cholmod.h>
 
 #include <atomic>
@@ -112,6 +114,11 @@ CholeskyFactor::Workspace& CholeskyFactor::Workspace::operator=(Workspace&&) noe
 CholeskyFactor::CholeskyFactor() : numeric_(std::make_unique<Numeric>()) {}
 CholeskyFactor::~CholeskyFactor() = default;
 
+// Debian's CHOLMOD asks for 4 OpenMP threads in its supernodal kernels whatever OMP_NUM_THREADS
+// says; on 2 cores, and inside parallel sigma-point threads, that oversubscribes (2-4x slower).
+// Dynamic teams (a per-thread setting) let the runtime shrink them to the cores that are free.
+static void limitCholmodThreads() { omp_set_dynamic(1); }
+
 void CholeskyFactor::analyzePattern(const SparseMatrix& A) {
   if (A.rows() != A.cols()) throw std::invalid_argument("CholeskyFactor: matrix is not square");
   numeric_->release();
@@ -134,6 +141,7 @@ void CholeskyFactor::factorize(const SparseMatrix& A) {
     num.L = cholmod_copy_factor(symbolic_->L, &num.common.c);
     check(num.L != nullptr, num.common.c, "Cholesky factor allocation");
   }
+  limitCholmodThreads();
   cholmod_sparse view = sparseView(A);
   const int ok = cholmod_factorize(&view, num.L, &num.common.c);
   if (num.common.c.status == CHOLMOD_NOT_POSDEF || (ok && num.L->minor < num.L->n)) {
@@ -161,6 +169,7 @@ void CholeskyFactor::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, Workspa
   if (B.cols() == 0) return;
   Workspace::Impl& w = *work.impl_;
   cholmod_dense b = denseView(B.data(), B.rows(), B.cols());
+  limitCholmodThreads();
   // Without a Bset, cholmod_solve2 on a supernodal factor only reads L and writes the
   // workspace's buffers and cholmod_common: this is what makes concurrent solves safe.
   const int ok =
