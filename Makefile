@@ -4,6 +4,10 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 BCASSIM_DATA ?= ../shared/data
 export BCASSIM_DATA
+# CHOLMOD's supernodal kernels ask for 4 OpenMP threads; the parallelism is ours (sigma points,
+# ctest -j), so each process keeps to one.
+OMP_THREAD_LIMIT ?= 1
+export OMP_THREAD_LIMIT
 
 .PHONY: all deps configure build test demo bench clean
 
