@@ -30,7 +30,7 @@ double FaceKernelDistance::valueAndGradient(const Eigen::MatrixX3d& V, const Eig
   const double st = faceKernelSum(s, target_, sigma_, kind_, &gcST, &gnST);
   // The kernel is symmetric, so d<S,S>/d(c_i, n_i) is twice the one-sided derivative.
   grad->setZero(V.rows(), 3);
-  addFaceGradientToVertices(V, F, 2.0 * (gcSS - gcST), 2.0 * (gnSS - gnST), grad);
+  addFaceGradientToVertices(V, F, s, 2.0 * (gcSS - gcST), 2.0 * (gnSS - gnST), grad);
   return ss + targetNorm2_ - 2.0 * st;
 }
 

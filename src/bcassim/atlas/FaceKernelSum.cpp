@@ -11,7 +11,36 @@ namespace bcassim {
 namespace {
 
 constexpr Eigen::Index kBlockI = 32;  // rows of a per task; their accumulators stay in registers/L1
-constexpr Eigen::Index kTileJ = 256;  // columns of b per tile: 7 arrays of 2 KB stay in L1
+constexpr Eigen::Index kTileJ = 128;  // columns of b per tile: 7 arrays of 1 KB stay in L1
+// Pairs farther apart than this many squared kernel widths are skipped, tile by tile: each
+// weighs below exp(-50) ~ 2e-22 of a coincident pair, far below rounding of the sum.
+constexpr double kCutoff = 50.0;
+
+struct Box {
+  double lo[3], hi[3];
+};
+
+// Bounding box of the centres of slots [begin, end).
+Box centreBox(const OrientedFaces& f, Eigen::Index begin, Eigen::Index end) {
+  Box b{{f.cx[begin], f.cy[begin], f.cz[begin]}, {f.cx[begin], f.cy[begin], f.cz[begin]}};
+  for (Eigen::Index i = begin + 1; i < end; ++i) {
+    const double p[3] = {f.cx[i], f.cy[i], f.cz[i]};
+    for (int d = 0; d < 3; ++d) {
+      b.lo[d] = std::min(b.lo[d], p[d]);
+      b.hi[d] = std::max(b.hi[d], p[d]);
+    }
+  }
+  return b;
+}
+
+double squaredGap(const Box& a, const Box& b) {
+  double g2 = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    const double g = std::max({0.0, a.lo[d] - b.hi[d], b.lo[d] - a.hi[d]});
+    g2 += g * g;
+  }
+  return g2;
+}
 
 using TileArray = Eigen::Array<double, kTileJ, 1>;
 using ConstMap = Eigen::Map<const Eigen::ArrayXd>;
@@ -75,14 +104,22 @@ double sum(const OrientedFaces& a, const OrientedFaces& b, double sigma, Eigen::
     gc->resize(na, 3);
     gn->resize(na, 3);
   }
+  const Eigen::Index tiles = (nb + kTileJ - 1) / kTileJ;
+  std::vector<Box> tileBox(static_cast<size_t>(tiles));
+  for (Eigen::Index tj = 0; tj < tiles; ++tj) {
+    tileBox[tj] = centreBox(b, tj * kTileJ, std::min(nb, (tj + 1) * kTileJ));
+  }
+  const double gapLimit = kCutoff / s;
   // One task per block of kBlockI rows, so that the fixed-size accumulators always fit.
   const Eigen::Index blocks = (na + kBlockI - 1) / kBlockI;
   tbb::parallel_for(Eigen::Index(0), blocks, [&](Eigen::Index block) {
     RowSums acc[kBlockI];
     TileArray k, t;
     const Eigen::Index i0 = block * kBlockI, ni = std::min(kBlockI, na - i0);
-    for (Eigen::Index j0 = 0; j0 < nb; j0 += kTileJ) {
-      const Eigen::Index nj = std::min(kTileJ, nb - j0);
+    const Box blockBox = centreBox(a, i0, i0 + ni);
+    for (Eigen::Index tj = 0; tj < tiles; ++tj) {
+      if (squaredGap(blockBox, tileBox[tj]) > gapLimit) continue;
+      const Eigen::Index j0 = tj * kTileJ, nj = std::min(kTileJ, nb - j0);
       for (Eigen::Index l = 0; l < ni; ++l) {
         const Eigen::Index i = i0 + l;
         tileRow<kKind, kGrad>(b, j0, nj, s, a.cx[i], a.cy[i], a.cz[i], a.nx[i], a.ny[i], a.nz[i], k,

@@ -1,6 +1,7 @@
 // Faces of a triangle mesh as the weighted oriented points of eq. 4.5: centre c = mean of the
 // vertices, normal n = 1/2 (v1 - v0) x (v2 - v0) (its norm is the area), stored as structure of
-// arrays for the vectorised kernel sums.
+// arrays for the vectorised kernel sums, in Morton order of the centres so that consecutive
+// faces are close and far tiles can be skipped.
 #pragma once
 #include <Eigen/Core>
 #include <vector>
@@ -11,6 +12,7 @@ struct OrientedFaces {
   std::vector<double> cx, cy, cz;  // centres, #F each (m)
   std::vector<double> nx, ny, nz;  // area-weighted normals, #F each (m^2)
   std::vector<double> invNorm;     // 1 / |n|, 0 for a degenerate face (which then weighs nothing)
+  std::vector<int> face;           // row of F of each slot
   Eigen::Index size() const { return static_cast<Eigen::Index>(cx.size()); }
 };
 
@@ -18,9 +20,10 @@ struct OrientedFaces {
 OrientedFaces orientedFaces(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
 
 // Chain rule from face centres and normals to vertices: adds to gV (#V by 3) the gradient of a
-// function whose derivatives are gc = d/dc and gn = d/dn (#F by 3 each).
+// function whose derivatives are gc = d/dc and gn = d/dn (#F by 3 each, rows in the slot order
+// of `faces`, which orientedFaces(V, F) built).
 void addFaceGradientToVertices(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
-                               const Eigen::MatrixX3d& gc, const Eigen::MatrixX3d& gn,
-                               Eigen::MatrixX3d* gV);
+                               const OrientedFaces& faces, const Eigen::MatrixX3d& gc,
+                               const Eigen::MatrixX3d& gn, Eigen::MatrixX3d* gV);
 
 }  // namespace bcassim
