@@ -1,0 +1,31 @@
+// Rigid pre-alignment before the LDDMM registration of thesis §4.3 (the atlas removes position
+// and orientation, keeps shape): Procrustes for paired points, ICP for surfaces.
+#pragma once
+#include <Eigen/Core>
+
+#include "bcassim/mesh/TriMesh.h"
+
+namespace bcassim {
+
+struct RigidTransform {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();  // m
+  // Rows of P (#P by 3) mapped: R p + t.
+  Eigen::MatrixX3d apply(const Eigen::MatrixX3d& P) const;
+};
+
+// Rotation (det +1) and translation minimising sum |R p_i + t - q_i|^2 (Kabsch). P, Q: #P by 3,
+// #P >= 3. Throws InputError on mismatched or too few rows.
+RigidTransform procrustes(const Eigen::MatrixX3d& P, const Eigen::MatrixX3d& Q);
+
+struct IcpOptions {
+  int maxIterations = 50;
+  double tolerance = 1e-10;  // stop when the RMS closest-point distance changes by less (m)
+};
+
+// Rigid transform taking the source surface onto the target: centroids matched first, then
+// point-to-closest-point ICP from the source vertices to the target surface.
+RigidTransform alignRigidly(const TriMesh& source, const TriMesh& target,
+                            const IcpOptions& options = {});
+
+}  // namespace bcassim

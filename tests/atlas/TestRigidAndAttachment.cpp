@@ -1,0 +1,66 @@
+// Rigid pre-alignment (Procrustes, ICP) and barycentric attachment of curves to surfaces.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
+#include "atlas/AtlasTestMeshes.h"
+#include "bcassim/Error.h"
+#include "bcassim/atlas/RigidAlignment.h"
+#include "bcassim/atlas/SurfaceAttachment.h"
+
+namespace bcassim {
+namespace {
+
+RigidTransform knownMotion() {
+  RigidTransform t;
+  t.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 0.5).normalized()).toRotationMatrix();
+  t.translation = Eigen::Vector3d(0.01, -0.02, 0.015);
+  return t;
+}
+
+TEST(RigidAlignment, ProcrustesRecoversMotionExactly) {
+  const Eigen::MatrixX3d P = test::randomMatrix(20, 0.05, 41);
+  const RigidTransform t = knownMotion();
+  const RigidTransform r = procrustes(P, t.apply(P));
+  EXPECT_LT((r.rotation - t.rotation).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((r.translation - t.translation).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_NEAR(r.rotation.determinant(), 1.0, 1e-12);
+  EXPECT_THROW(procrustes(P.topRows(2), P.topRows(2)), InputError);
+}
+
+TEST(RigidAlignment, IcpAlignsMovedEllipsoid) {
+  // An ellipsoid (no rotational symmetry) moved rigidly and retessellated is found again.
+  TriMesh target = test::makeIcosphere(1.0, 3);
+  target.V = target.V * Eigen::Vector3d(0.08, 0.05, 0.03).asDiagonal();
+  TriMesh source = test::makeIcosphere(1.0, 2);
+  source.V = source.V * Eigen::Vector3d(0.08, 0.05, 0.03).asDiagonal();
+  const RigidTransform t = knownMotion();
+  target.V = t.apply(target.V);
+  const RigidTransform r = alignRigidly(source, target);
+  EXPECT_LT((r.rotation - t.rotation).cwiseAbs().maxCoeff(), 0.02);
+  EXPECT_LT((r.translation - t.translation).norm(), 1e-3);
+}
+
+TEST(SurfaceAttachment, PointsFollowTheSurface) {
+  const TriMesh s = test::makeIcosphere(0.05, 2);
+  // A curve of points on the surface: vertex midpoints of some faces.
+  Eigen::MatrixX3d curve(10, 3);
+  for (int i = 0; i < 10; ++i) {
+    const Eigen::Index f = 7 * i;
+    curve.row(i) = (s.V.row(s.F(f, 0)) + 2.0 * s.V.row(s.F(f, 1)) + s.V.row(s.F(f, 2))) / 4.0;
+  }
+  const SurfaceAttachment attached(s, curve);
+  EXPECT_LT(attached.projectionDistances().maxCoeff(), 1e-12);
+  EXPECT_LT((attached.positions(s.V) - curve).cwiseAbs().maxCoeff(), 1e-12);
+  // An affine motion of the vertices moves attached points by the same affine map.
+  Eigen::Matrix3d A;
+  A << 1.1, 0.2, 0.0, -0.1, 0.9, 0.05, 0.0, 0.1, 1.2;
+  const Eigen::RowVector3d b(0.01, 0.0, -0.02);
+  const Eigen::MatrixX3d moved = (s.V * A.transpose()).rowwise() + b;
+  const Eigen::MatrixX3d expected = (curve * A.transpose()).rowwise() + b;
+  EXPECT_LT((attached.positions(moved) - expected).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+}  // namespace
+}  // namespace bcassim
