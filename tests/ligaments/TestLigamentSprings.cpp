@@ -7,6 +7,9 @@
 #include <cmath>
 
 #include "bcassim/Error.h"
+#include "bcassim/io/ObjFormat.h"
+#include "bcassim/ligaments/AttachmentCurve.h"
+#include "bcassim/ligaments/EsegLabels.h"
 #include "bcassim/ligaments/SurfaceMesher.h"
 #include "bcassim/ligaments/VesselRegion.h"
 #include "bcassim/mesh/BarycentricMap.h"
@@ -123,6 +126,33 @@ TEST(VesselRegion, BallAroundGuessedHilum) {
   const std::vector<int> nodes = nodesWithinRadius(box, hilum, 0.026);
   EXPECT_FALSE(nodes.empty());
   for (int n : nodes) EXPECT_LE((box.V.row(n).transpose() - hilum).norm(), 0.026);
+}
+
+}  // namespace
+}  // namespace bcassim
+
+namespace bcassim {
+namespace {
+
+TEST(LigamentSprings, FalciformSpringsOnCtLiver) {
+  const std::string data = test::ligamentDataDir();
+  if (data.empty()) GTEST_SKIP() << "shared data directory not found (set BCASSIM_DATA)";
+  const std::string base = data + "/livers/LiTS-0";
+  const TriMesh liver = readObj(base + ".obj");
+  const AttachmentCurve curve =
+      extractAttachmentCurve(liver, readEseg(base + ".eseg", liver), 2, "LiTS-0.eseg");
+  EXPECT_GT(curve.length, 50.0);  // mm: the falciform attachment spans several centimetres
+  SurfaceMeshingOptions meshing;
+  meshing.targetNodes = 800;
+  const TetMesh mesh = meshSurface(liver, meshing, "LiTS-0.obj").mesh;
+  const LigamentSprings lig = buildLigamentSprings(mesh, 1e-3 * curve.points);
+  EXPECT_NEAR(lig.curveLength, 1e-3 * curve.length, 1e-12);
+  EXPECT_LT(lig.maxSnapDistance, 0.005);  // the curve lies on the CT surface, Mesh_3 within mm
+  EXPECT_EQ(lig.springs.numGroups(), 4);
+  for (const CubicSpring& s : lig.springs.springs()) {
+    EXPECT_GE(s.tet, 0);
+    EXPECT_NEAR(s.weights.sum(), 1.0, 1e-9);
+  }
 }
 
 }  // namespace

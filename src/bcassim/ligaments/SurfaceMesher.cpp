@@ -300,8 +300,17 @@ LiverMeshingOutcome meshOne(const std::filesystem::path& path, const std::string
     outcome.report = result.report;
     outcome.problem = describeRepairs(result.report);
     const double ratio = static_cast<double>(result.report.outputNodes) / options.targetNodes;
-    outcome.ok = std::abs(ratio - 1) <= options.nodeTolerance;
-    if (!outcome.ok) {
+    // The mesh volume must match the surface's: a surface cut open by the orientation repair or
+    // folded onto itself encloses a different volume than the organ, yet still meshes.
+    const double volumeRatio = result.report.meshVolume / result.report.surfaceVolume;
+    const bool volumeOk = std::abs(volumeRatio - 1) <= 0.05;
+    if (!volumeOk) {
+      outcome.problem += fmt::format("{}mesh volume {:.2f} x the surface's",
+                                     outcome.problem.empty() ? "" : "; ", volumeRatio);
+    }
+    const bool nodesOk = std::abs(ratio - 1) <= options.nodeTolerance;
+    outcome.ok = nodesOk && volumeOk;
+    if (!nodesOk) {
       outcome.problem += fmt::format("{}node count {} outside +-{:.0f} % of {}",
                                      outcome.problem.empty() ? "" : "; ",
                                      result.report.outputNodes, 100 * options.nodeTolerance,
