@@ -27,6 +27,11 @@ class RegistrationObjective {
   // exact for the discrete shooting scheme.
   RegistrationTerms evaluate(const Eigen::MatrixX3d& a0, Eigen::MatrixX3d* grad = nullptr) const;
 
+  // Same with the source vertices replaced by V (#V by 3, the source's faces), as the atlas of
+  // eq. 4.8 moves them; gradV (when non-null) receives dE/dV (#V by 3).
+  RegistrationTerms evaluateAt(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& a0,
+                               Eigen::MatrixX3d* gradA, Eigen::MatrixX3d* gradV) const;
+
   // Source vertices flowed by the geodesic from a0: #V by 3.
   Eigen::MatrixX3d deform(const Eigen::MatrixX3d& a0) const;
 
