@@ -203,7 +203,7 @@ TetMesh runMesh3(const Surface& surface, double cellSize, const SurfaceMeshingOp
                     params::facet_distance = 0.1 * cellSize,
                     params::cell_radius_edge_ratio = options.radiusEdgeRatio,
                     params::cell_size = cellSize);
-  // Perturbation is skipped: it is the one Mesh_3 step bounded by wall time, hence not repeatable.
+  // Perturbation is skipped (bounded by wall time); exudation, optional, also varies between runs.
   Complex complex =
       options.exude
           ? CGAL::make_mesh_3<Complex>(domain, criteria, params::no_perturb(), params::exude())
