@@ -11,10 +11,11 @@
 namespace bcassim {
 
 TrackFrames toStepFrames(const MarkerTracks& tracks, const std::string& file, int numPoints,
-                         double dt, int steps, double timeOffset) {
+                         const std::string& pointsName, double dt, int steps, double timeOffset) {
   if (tracks.numMarkers != numPoints)
-    throw InputError(fmt::format("'{}' holds {} points (1 + largest marker index), expected {}",
-                                 file, tracks.numMarkers, numPoints));
+    throw InputError(
+        fmt::format("'{}' holds {} points (1 + largest marker index); the scene has {} {}", file,
+                    tracks.numMarkers, numPoints, pointsName));
   TrackFrames out;
   out.file = file;
   out.frames.assign(steps + 1, Eigen::MatrixX3d::Constant(
@@ -151,11 +152,13 @@ EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
 }
 
 TrackFrames readFrames(const YamlSource& src, const MapReader& r, const std::string& key,
-                       int numPoints, const AssimilationContext& c, double offset) {
+                       int numPoints, const std::string& pointsName, const AssimilationContext& c,
+                       double offset) {
   const std::string file = r.existingFile(key);
   TrackFrames frames;
   withContext(src, r.node(key), r.pathOf(key), [&] {
-    frames = toStepFrames(readMarkerTracks(file), file, numPoints, c.dt, c.steps, offset);
+    frames =
+        toStepFrames(readMarkerTracks(file), file, numPoints, pointsName, c.dt, c.steps, offset);
   });
   return frames;
 }
@@ -217,14 +220,15 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.observations.noiseStddev = obs.number("noise_stddev", 0.0, "m", Range::NonNegative);
   s.observations.sigma = obs.number("sigma", 1e-4, "m", Range::Positive);
   s.observations.untilStep = obs.integer("until_step", c.steps);
-  s.observations.tracks = readFrames(src, obs, "tracks", c.markers, c, s.observations.timeOffset);
+  s.observations.tracks =
+      readFrames(src, obs, "tracks", c.markers, "markers", c, s.observations.timeOffset);
 
   MapReader val(src, r.node("validation"), r.pathOf("validation"), {"tracks"});
   if (val.has("tracks")) {
     if (c.validationPoints == 0)
       val.fail("tracks", "the scene has no validation_points (the points the tracks follow)");
-    s.validationTruth =
-        readFrames(src, val, "tracks", c.validationPoints, c, s.observations.timeOffset);
+    s.validationTruth = readFrames(src, val, "tracks", c.validationPoints, "validation points", c,
+                                   s.observations.timeOffset);
   }
   return s;
 }

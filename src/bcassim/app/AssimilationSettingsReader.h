@@ -18,10 +18,11 @@ struct AssimilationContext {
   int steps = 0;
 };
 
-// Tracks of `numPoints` points at times timeOffset + k dt, k = 0 .. steps. Throws InputError
-// naming `tracks.file` when the file holds another number of points or a frame off the grid.
+// Tracks of `numPoints` points (`pointsName` in messages: "markers") at times timeOffset + k dt,
+// k = 0 .. steps; frames past the last step are dropped. Throws InputError naming `file` when it
+// holds another number of points or a frame off the grid.
 TrackFrames toStepFrames(const MarkerTracks& tracks, const std::string& file, int numPoints,
-                         double dt, int steps, double timeOffset);
+                         const std::string& pointsName, double dt, int steps, double timeOffset);
 
 namespace app {
 

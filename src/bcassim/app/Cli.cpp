@@ -180,11 +180,14 @@ int assimilate(const std::string& scenePath, const std::string& estimatesPath,
   const Scene scene = loadScene(scenePath);
   if (!scene.assimilation)
     throw InputError(scenePath + ": no assimilation: section (see docs/assimilation-format.md)");
+  const bool validating = !estimatesPath.empty();
+  if (validating && !scene.assimilation->validationTruth)
+    throw InputError(scenePath +
+                     ": assimilation.validation.tracks: missing (truth of the validation points)");
   printSceneLine(scenePath, scene);
   AssimilationProgressBar bar(stderr);
   AssimilationCallback progress;
   if (!quiet) progress = [&bar](const AssimilationProgress& p) { bar.update(p); };
-  const bool validating = !estimatesPath.empty();
   const AssimilationResult result = validating
                                         ? runValidation(scene, estimatesPath, outDir, progress)
                                         : runAssimilation(scene, outDir, progress);

@@ -1,0 +1,144 @@
+// `bcassim assimilate` and `validate` as a user meets them: one-line located errors with exit
+// code 2 for a malformed assimilation section, a run's summary and files, and the validation
+// tracks written by `simulate`.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "AppTestHelpers.h"
+#include "bcassim/io/CsvTracks.h"
+
+namespace bcassim {
+namespace {
+
+using test::freshDir;
+using test::runBcassim;
+using test::writeText;
+
+// Two markers on a small beam; line 6 opens the assimilation section.
+const char* kScene =
+    "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
+    "markers:\n"
+    "  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
+    "time: {dt: 0.01, steps: 3}\n"
+    "output: {pvd: false}\n"
+    "assimilation:\n";
+
+const char* kTwoMarkers =
+    "time,marker,x,y,z\n"
+    "0.01,0,0.1,0.01,0.01\n0.01,1,0.05,0.01,0.01\n"
+    "0.02,0,0.1,0.01,0.01\n0.02,1,0.05,0.01,0.01\n";
+
+test::CliResult assimilate(const std::filesystem::path& dir, const std::string& section,
+                           const std::string& tracks = kTwoMarkers) {
+  writeText(dir / "scene.yaml", std::string(kScene) + section);
+  writeText(dir / "tracks.csv", tracks);
+  return runBcassim(dir, "assimilate scene.yaml --out out --quiet --no-plots");
+}
+
+void expectError(const test::CliResult& r, const std::string& message) {
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err, "bcassim: error: " + message + "\n");
+  EXPECT_EQ(r.out, "");
+}
+
+const char* kParameters =
+    "  parameters:\n"
+    "    - {young_modulus: {region: 0}, mean: 4000, stddev: 1000}\n";
+
+TEST(AssimilationCli, UnknownFilter) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string("  filter: kalman\n") + kParameters +
+                                  "  observations: {tracks: tracks.csv}\n"),
+              "scene.yaml:7: assimilation.filter: expected one of ukf, roukf, etkf, got 'kalman'");
+}
+
+TEST(AssimilationCli, MissingTracksFile) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string(kParameters) + "  observations: {tracks: gone.csv}\n"),
+              "scene.yaml:9: assimilation.observations.tracks: cannot open '" +
+                  (dir / "gone.csv").string() + "'");
+}
+
+TEST(AssimilationCli, MarkerCountMismatch) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string(kParameters) + "  observations: {tracks: tracks.csv}\n",
+                         std::string(kTwoMarkers) + "0.02,2,0.1,0.01,0.01\n"),
+              "scene.yaml:9: assimilation.observations.tracks: '" + (dir / "tracks.csv").string() +
+                  "' holds 3 points (1 + largest marker index); the scene has 2 markers");
+}
+
+TEST(AssimilationCli, TracksOffTheTimeGrid) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string(kParameters) + "  observations: {tracks: tracks.csv}\n",
+                         "time,marker,x,y,z\n0.015,0,0.1,0.01,0.01\n0.015,1,0.05,0.01,0.01\n"),
+              "scene.yaml:9: assimilation.observations.tracks: '" + (dir / "tracks.csv").string() +
+                  "': frame at time 0.015 s is not on the scene's time grid 0 s + k x 0.01 s "
+                  "(time.dt); the tracks must come from a run with the same dt");
+}
+
+TEST(AssimilationCli, MissingParameterMean) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir,
+                         "  parameters:\n    - {spring: {group: 0}, stddev: 1}\n"
+                         "  observations: {tracks: tracks.csv}\n"),
+              "scene.yaml:8: assimilation.parameters[0].spring.group: the scene has no springs");
+}
+
+TEST(AssimilationCli, InflationOnlyForUkfAndEtkf) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string("  inflation: 0.1\n") + kParameters +
+                                  "  observations: {tracks: tracks.csv}\n"),
+              "scene.yaml:7: assimilation.inflation: only for filters ukf and etkf (roukf keeps "
+              "its rank)");
+}
+
+TEST(AssimilationCli, RunPrintsSummaryAndWritesFiles) {
+  const auto dir = freshDir();
+  const test::CliResult r = assimilate(
+      dir, std::string(kParameters) + "  observations: {tracks: tracks.csv, until_step: 2}\n");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("E_0"), std::string::npos);
+  EXPECT_NE(r.out.find("no validation"), std::string::npos);
+  for (const char* f : {"estimates.csv", "parameters.csv", "timing.csv", "filter.csv"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / f)) << f;
+  // Step 3 has no frame: a prediction only.
+  EXPECT_NE(test::readText(dir / "out" / "filter.csv").find("\n3,0.03,0,0,0\n"), std::string::npos);
+
+  // validate needs the truth of validation points.
+  const test::CliResult v =
+      runBcassim(dir, "validate scene.yaml --estimates out/estimates.csv --out val --no-plots");
+  expectError(v,
+              "scene.yaml: assimilation.validation.tracks: missing (truth of the validation "
+              "points)");
+}
+
+TEST(AssimilationCli, SimulateWritesValidationTracksFromRest) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml",
+            "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
+            "validation_points: {points: [[0.1, 0.01, 0.01]]}\n"
+            "time: {dt: 0.01, steps: 2}\noutput: {pvd: false}\n");
+  const test::CliResult r = runBcassim(dir, "simulate scene.yaml --out out --quiet");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  // Frame 0 is the rest state: displacements of the truth are measured from it.
+  const MarkerTracks t = readMarkerTracks((dir / "out" / "validation.csv").string());
+  ASSERT_EQ(t.times.size(), 3u);
+  EXPECT_EQ(t.numMarkers, 1);
+  EXPECT_EQ(t.times[0], 0.0);
+  EXPECT_NEAR(t.times[2], 0.02, 1e-12);
+  EXPECT_NEAR((t.frames[0].row(0) - Eigen::RowVector3d(0.1, 0.01, 0.01)).norm(), 0.0, 1e-12);
+}
+
+TEST(AssimilationCli, ValidationPointsNeedOneSource) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml",
+            "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
+            "validation_points: {nodes: some}\n");
+  expectError(runBcassim(dir, "simulate scene.yaml --out out --quiet"),
+              "scene.yaml:2: validation_points.nodes: expected 'all' (every mesh node), got "
+              "'some'");
+}
+
+}  // namespace
+}  // namespace bcassim
