@@ -1,6 +1,5 @@
-// Double sums over face pairs of the varifold (eq. 4.5) and current inner products:
-// <A, B> = sum_ij exp(-|c_i - d_j|^2 / sigma^2) g(n_i, m_j), with g = (n.m)^2 / (|n||m|)
-// (varifold, blind to orientation) or g = n.m (current).
+// Varifold (eq. 4.5) and current inner products <A, B> = sum_ij exp(-|c_i - d_j|^2 / sigma^2)
+// g(n_i, m_j), g = (n.m)^2 / (|n||m|) (varifold, orientation-blind) or g = n.m (current).
 #pragma once
 #include <Eigen/Core>
 

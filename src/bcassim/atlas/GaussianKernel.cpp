@@ -1,33 +1,62 @@
 #include "bcassim/atlas/GaussianKernel.h"
 
 #include <fmt/format.h>
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "bcassim/Error.h"
 #include "bcassim/atlas/FastExp.h"
 
 namespace bcassim {
 namespace {
-// Rows per parallel task: control-point sets are small (hundreds), meshes a few thousand points.
-constexpr Eigen::Index kGrain = 32;
+// Rows per parallel task and columns per tile (the tile's kernel values stay in L1).
+constexpr Eigen::Index kBlockI = 16;
+constexpr Eigen::Index kTileJ = 256;
 
-// exp(-y) for y >= 0.
-inline double expOfNegative(double y) { return detail::fastExp(std::max(-y, detail::kFastExpMin)); }
+using Tile = std::array<double, kTileJ>;
+using Col = Eigen::Map<const Eigen::ArrayXd>;
 
-// Per-thread accumulator of a #rows by 3 derivative that parallel tasks over the other index
-// scatter into; summed once at the end.
-struct ScatterBuffer {
-  tbb::enumerable_thread_specific<Eigen::MatrixX3d> local;
-  explicit ScatterBuffer(Eigen::Index rows) : local(Eigen::MatrixX3d::Zero(rows, 3)) {}
-  void addTo(Eigen::MatrixX3d* out) {
-    for (const Eigen::MatrixX3d& m : local) *out += m;
-  }
+// Columns of a #n by 3 matrix as contiguous arrays (the matrix is column-major already, so these
+// are views, not copies).
+struct Columns {
+  const double* c[3];
+  explicit Columns(const Eigen::MatrixX3d& m)
+      : c{m.col(0).data(), m.col(1).data(), m.col(2).data()} {}
+  Col tile(int d, Eigen::Index j0, Eigen::Index nj) const { return Col(c[d] + j0, nj); }
 };
+
+// k[j] = exp(-|p - y_{j0+j}|^2 s) for j < nj, in two element-wise passes so that both vectorise
+// (see FastExp.h).
+inline void kernelTile(const double p[3], const Columns& y, Eigen::Index j0, Eigen::Index nj,
+                       double s, Tile& k) {
+  const double* y0 = y.c[0] + j0;
+  const double* y1 = y.c[1] + j0;
+  const double* y2 = y.c[2] + j0;
+  for (Eigen::Index j = 0; j < nj; ++j) {
+    const double d0 = p[0] - y0[j], d1 = p[1] - y1[j], d2 = p[2] - y2[j];
+    const double arg = -(d0 * d0 + d1 * d1 + d2 * d2) * s;
+    k[j] = arg < detail::kFastExpMin ? detail::kFastExpMin : arg;
+  }
+  for (Eigen::Index j = 0; j < nj; ++j) k[j] = detail::fastExp(k[j]);
+}
+
+inline Eigen::Map<const Eigen::ArrayXd> view(const Tile& t, Eigen::Index nj) {
+  return {t.data(), nj};
+}
+
+// Runs body(i) for every row, one task per block of rows.
+template <class Body>
+void forEachRow(Eigen::Index n, Body&& body) {
+  tbb::parallel_for(Eigen::Index(0), (n + kBlockI - 1) / kBlockI, [&](Eigen::Index b) {
+    const Eigen::Index end = std::min(n, (b + 1) * kBlockI);
+    for (Eigen::Index i = b * kBlockI; i < end; ++i) body(i);
+  });
+}
 }  // namespace
 
 GaussianKernel::GaussianKernel(double sigma) : sigma_(sigma), invSigma2_(1.0 / (sigma * sigma)) {
@@ -43,22 +72,20 @@ double GaussianKernel::operator()(const Eigen::Vector3d& x, const Eigen::Vector3
 Eigen::MatrixX3d GaussianKernel::convolve(const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& y,
                                           const Eigen::MatrixX3d& w) const {
   Eigen::MatrixX3d v(x.rows(), 3);
+  const Columns yc(y), wc(w);
   const double s = invSigma2_;
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, x.rows(), kGrain), [&](const auto& r) {
-    for (Eigen::Index i = r.begin(); i < r.end(); ++i) {
-      const double xi0 = x(i, 0), xi1 = x(i, 1), xi2 = x(i, 2);
-      double v0 = 0.0, v1 = 0.0, v2 = 0.0;
-      for (Eigen::Index j = 0; j < y.rows(); ++j) {
-        const double d0 = xi0 - y(j, 0), d1 = xi1 - y(j, 1), d2 = xi2 - y(j, 2);
-        const double k = expOfNegative((d0 * d0 + d1 * d1 + d2 * d2) * s);
-        v0 += k * w(j, 0);
-        v1 += k * w(j, 1);
-        v2 += k * w(j, 2);
-      }
-      v(i, 0) = v0;
-      v(i, 1) = v1;
-      v(i, 2) = v2;
+  const Eigen::Index ny = y.rows();
+  forEachRow(x.rows(), [&](Eigen::Index i) {
+    const double p[3] = {x(i, 0), x(i, 1), x(i, 2)};
+    double acc[3] = {0.0, 0.0, 0.0};
+    Tile k;
+    for (Eigen::Index j0 = 0; j0 < ny; j0 += kTileJ) {
+      const Eigen::Index nj = std::min(kTileJ, ny - j0);
+      kernelTile(p, yc, j0, nj, s, k);
+      const auto kk = view(k, nj);
+      for (int d = 0; d < 3; ++d) acc[d] += (kk * wc.tile(d, j0, nj)).sum();
     }
+    for (int d = 0; d < 3; ++d) v(i, d) = acc[d];
   });
   return v;
 }
@@ -67,28 +94,55 @@ void GaussianKernel::convolveVjp(const Eigen::MatrixX3d& x, const Eigen::MatrixX
                                  const Eigen::MatrixX3d& w, const Eigen::MatrixX3d& eta,
                                  Eigen::MatrixX3d* gx, Eigen::MatrixX3d* gy,
                                  Eigen::MatrixX3d* gw) const {
+  // With c_ij = K_ij (eta_i . w_j): dL/dx_i = -2s sum_j c_ij (x_i - y_j),
+  // dL/dy_j = +2s sum_i c_ij (x_i - y_j), dL/dw_j = sum_i K_ij eta_i. The last two are scattered
+  // into per-thread column accumulators (element-wise, so they vectorise), summed at the end.
+  const Columns yc(y), wc(w);
   const double s = invSigma2_;
-  ScatterBuffer bufY(y.rows()), bufW(y.rows());
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, x.rows(), kGrain), [&](const auto& r) {
-    Eigen::MatrixX3d& ly = bufY.local.local();
-    Eigen::MatrixX3d& lw = bufW.local.local();
-    for (Eigen::Index i = r.begin(); i < r.end(); ++i) {
-      const Eigen::RowVector3d xi = x.row(i), ei = eta.row(i);
-      Eigen::RowVector3d accX = Eigen::RowVector3d::Zero();
-      for (Eigen::Index j = 0; j < y.rows(); ++j) {
-        const Eigen::RowVector3d d = xi - y.row(j);
-        const double k = expOfNegative(d.squaredNorm() * s);
-        // d/dx_i of K(x_i, y_j) (eta_i . w_j) is K (eta_i . w_j) (-2/sigma^2) d.
-        const Eigen::RowVector3d gd = (-2.0 * s * k * ei.dot(w.row(j))) * d;
-        accX += gd;
-        if (gy) ly.row(j) -= gd;
-        if (gw) lw.row(j) += k * ei;
+  const Eigen::Index ny = y.rows();
+  const bool scatter = gy != nullptr || gw != nullptr;
+  tbb::enumerable_thread_specific<Eigen::MatrixXd> local(
+      Eigen::MatrixXd::Zero(scatter ? ny : 0, 6));  // columns: dL/dy (3), dL/dw (3)
+  Eigen::MatrixX3d gxLocal = Eigen::MatrixX3d::Zero(x.rows(), 3);
+  forEachRow(x.rows(), [&](Eigen::Index i) {
+    const double p[3] = {x(i, 0), x(i, 1), x(i, 2)};
+    const double e[3] = {eta(i, 0), eta(i, 1), eta(i, 2)};
+    Eigen::MatrixXd* acc = scatter ? &local.local() : nullptr;
+    double sumC = 0.0, sumCy[3] = {0.0, 0.0, 0.0};
+    Tile k, c;
+    for (Eigen::Index j0 = 0; j0 < ny; j0 += kTileJ) {
+      const Eigen::Index nj = std::min(kTileJ, ny - j0);
+      kernelTile(p, yc, j0, nj, s, k);
+      const double* w0 = wc.c[0] + j0;
+      const double* w1 = wc.c[1] + j0;
+      const double* w2 = wc.c[2] + j0;
+      for (Eigen::Index j = 0; j < nj; ++j)
+        c[j] = k[j] * (e[0] * w0[j] + e[1] * w1[j] + e[2] * w2[j]);
+      const auto cc = view(c, nj);
+      sumC += cc.sum();
+      for (int d = 0; d < 3; ++d) sumCy[d] += (cc * yc.tile(d, j0, nj)).sum();
+      if (acc) {
+        for (int d = 0; d < 3; ++d) {
+          double* gyd = acc->col(d).data() + j0;
+          double* gwd = acc->col(3 + d).data() + j0;
+          const double* yd = yc.c[d] + j0;
+          const double pd = p[d], ed = e[d], twoS = 2.0 * s;
+          for (Eigen::Index j = 0; j < nj; ++j) {
+            gyd[j] += twoS * c[j] * (pd - yd[j]);
+            gwd[j] += k[j] * ed;
+          }
+        }
       }
-      if (gx) gx->row(i) += accX;
     }
+    for (int d = 0; d < 3; ++d) gxLocal(i, d) = -2.0 * s * (p[d] * sumC - sumCy[d]);
   });
-  if (gy) bufY.addTo(gy);
-  if (gw) bufW.addTo(gw);
+  if (gx) *gx += gxLocal;
+  if (scatter) {
+    for (const Eigen::MatrixXd& m : local) {
+      if (gy) *gy += m.leftCols(3);
+      if (gw) *gw += m.rightCols(3);
+    }
+  }
 }
 
 double GaussianKernel::hamiltonian(const Eigen::MatrixX3d& q, const Eigen::MatrixX3d& a) const {
@@ -97,19 +151,29 @@ double GaussianKernel::hamiltonian(const Eigen::MatrixX3d& q, const Eigen::Matri
 
 Eigen::MatrixX3d GaussianKernel::hamiltonianGradient(const Eigen::MatrixX3d& q,
                                                      const Eigen::MatrixX3d& a) const {
+  // dH/dq_i = -2s sum_j c_ij (q_i - q_j) with c_ij = K_ij (a_i . a_j): both occurrences of q_i
+  // in the double sum give the same term, cancelling the 1/2.
   Eigen::MatrixX3d g(q.rows(), 3);
+  const Columns qc(q), ac(a);
   const double s = invSigma2_;
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, q.rows(), kGrain), [&](const auto& r) {
-    for (Eigen::Index i = r.begin(); i < r.end(); ++i) {
-      Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
-      for (Eigen::Index j = 0; j < q.rows(); ++j) {
-        const Eigen::RowVector3d d = q.row(i) - q.row(j);
-        const double k = expOfNegative(d.squaredNorm() * s);
-        acc += (k * a.row(i).dot(a.row(j))) * d;
-      }
-      // Both occurrences of q_i in the double sum give the same term, cancelling the 1/2.
-      g.row(i) = (-2.0 * s) * acc;
+  const Eigen::Index n = q.rows();
+  forEachRow(n, [&](Eigen::Index i) {
+    const double p[3] = {q(i, 0), q(i, 1), q(i, 2)};
+    const double ai[3] = {a(i, 0), a(i, 1), a(i, 2)};
+    double sumC = 0.0, sumCq[3] = {0.0, 0.0, 0.0};
+    Tile k;
+    for (Eigen::Index j0 = 0; j0 < n; j0 += kTileJ) {
+      const Eigen::Index nj = std::min(kTileJ, n - j0);
+      kernelTile(p, qc, j0, nj, s, k);
+      const double* a0 = ac.c[0] + j0;
+      const double* a1 = ac.c[1] + j0;
+      const double* a2 = ac.c[2] + j0;
+      for (Eigen::Index j = 0; j < nj; ++j) k[j] *= ai[0] * a0[j] + ai[1] * a1[j] + ai[2] * a2[j];
+      const auto cc = view(k, nj);
+      sumC += cc.sum();
+      for (int d = 0; d < 3; ++d) sumCq[d] += (cc * qc.tile(d, j0, nj)).sum();
     }
+    for (int d = 0; d < 3; ++d) g(i, d) = -2.0 * s * (p[d] * sumC - sumCq[d]);
   });
   return g;
 }
@@ -117,22 +181,47 @@ Eigen::MatrixX3d GaussianKernel::hamiltonianGradient(const Eigen::MatrixX3d& q,
 void GaussianKernel::hamiltonianGradientVjp(const Eigen::MatrixX3d& q, const Eigen::MatrixX3d& a,
                                             const Eigen::MatrixX3d& xi, Eigen::MatrixX3d* gq,
                                             Eigen::MatrixX3d* ga) const {
-  // L = -(2/s^2) sum_ij K_ij (a_i.a_j) xi_i.d_ij with d_ij = q_i - q_j; symmetrising over (i, j)
-  // leaves only xi_i - xi_j, so each row is a plain sum over j (no scatter).
+  // L = -2s sum_ij K_ij (a_i.a_j) xi_i.d_ij with d_ij = q_i - q_j. Symmetrising over (i, j)
+  // leaves only dxi_ij = xi_i - xi_j, so each row is a plain sum over j (no scatter):
+  //   dL/dq_i = -2s sum_j K_ij (a_i.a_j) [dxi_ij - 2s (dxi_ij.d_ij) d_ij],
+  //   dL/da_i = -2s sum_j K_ij (dxi_ij.d_ij) a_j.
+  // With c1 = K (a_i.a_j), c2 = c1 (dxi.d), c3 = K (dxi.d), the sums over j expand into
+  // reductions against the columns of q, xi and a.
+  const Columns qc(q), ac(a), xc(xi);
   const double s = invSigma2_;
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, q.rows(), kGrain), [&](const auto& r) {
-    for (Eigen::Index i = r.begin(); i < r.end(); ++i) {
-      Eigen::RowVector3d accQ = Eigen::RowVector3d::Zero(), accA = Eigen::RowVector3d::Zero();
-      for (Eigen::Index j = 0; j < q.rows(); ++j) {
-        const Eigen::RowVector3d d = q.row(i) - q.row(j);
-        const Eigen::RowVector3d dxi = xi.row(i) - xi.row(j);
-        const double k = expOfNegative(d.squaredNorm() * s);
-        const double dxiDotD = dxi.dot(d);
-        accQ += (k * a.row(i).dot(a.row(j))) * (dxi - (2.0 * s * dxiDotD) * d);
-        accA += (k * dxiDotD) * a.row(j);
+  const Eigen::Index n = q.rows();
+  forEachRow(n, [&](Eigen::Index i) {
+    const double p[3] = {q(i, 0), q(i, 1), q(i, 2)};
+    const double ai[3] = {a(i, 0), a(i, 1), a(i, 2)};
+    const double xii[3] = {xi(i, 0), xi(i, 1), xi(i, 2)};
+    double s1 = 0.0, s1x[3] = {0, 0, 0}, s2 = 0.0, s2q[3] = {0, 0, 0}, s3a[3] = {0, 0, 0};
+    Tile k, c1, c2;
+    for (Eigen::Index j0 = 0; j0 < n; j0 += kTileJ) {
+      const Eigen::Index nj = std::min(kTileJ, n - j0);
+      kernelTile(p, qc, j0, nj, s, k);
+      const double *q0 = qc.c[0] + j0, *q1 = qc.c[1] + j0, *q2 = qc.c[2] + j0;
+      const double *a0 = ac.c[0] + j0, *a1 = ac.c[1] + j0, *a2 = ac.c[2] + j0;
+      const double *x0 = xc.c[0] + j0, *x1 = xc.c[1] + j0, *x2 = xc.c[2] + j0;
+      for (Eigen::Index j = 0; j < nj; ++j) {
+        const double dxd = (xii[0] - x0[j]) * (p[0] - q0[j]) + (xii[1] - x1[j]) * (p[1] - q1[j]) +
+                           (xii[2] - x2[j]) * (p[2] - q2[j]);
+        c1[j] = k[j] * (ai[0] * a0[j] + ai[1] * a1[j] + ai[2] * a2[j]);
+        c2[j] = c1[j] * dxd;
+        k[j] *= dxd;  // c3
       }
-      if (gq) gq->row(i) -= (2.0 * s) * accQ;
-      if (ga) ga->row(i) -= (2.0 * s) * accA;
+      const auto v1 = view(c1, nj), v2 = view(c2, nj), v3 = view(k, nj);
+      s1 += v1.sum();
+      s2 += v2.sum();
+      for (int d = 0; d < 3; ++d) {
+        s1x[d] += (v1 * xc.tile(d, j0, nj)).sum();
+        s2q[d] += (v2 * qc.tile(d, j0, nj)).sum();
+        s3a[d] += (v3 * ac.tile(d, j0, nj)).sum();
+      }
+    }
+    for (int d = 0; d < 3; ++d) {
+      const double dq = (xii[d] * s1 - s1x[d]) - 2.0 * s * (p[d] * s2 - s2q[d]);
+      if (gq) (*gq)(i, d) -= 2.0 * s * dq;
+      if (ga) (*ga)(i, d) -= 2.0 * s * s3a[d];
     }
   });
 }

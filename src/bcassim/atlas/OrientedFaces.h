@@ -1,7 +1,5 @@
-// Faces of a triangle mesh as the weighted oriented points of eq. 4.5: centre c = mean of the
-// vertices, normal n = 1/2 (v1 - v0) x (v2 - v0) (its norm is the area), stored as structure of
-// arrays for the vectorised kernel sums, in Morton order of the centres so that consecutive
-// faces are close and far tiles can be skipped.
+// Faces as the oriented points of eq. 4.5: centre c = vertex mean, n = 1/2 (v1 - v0) x (v2 - v0)
+// (|n| = area); structure of arrays in Morton order of c, so that far tiles can be skipped.
 #pragma once
 #include <Eigen/Core>
 #include <vector>
