@@ -5,7 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config
-  libeigen3-dev libsuitesparse-dev libopenblas0-serial libtbb-dev
+  libeigen3-dev libsuitesparse-dev libopenblas0-pthread libtbb-dev
   libvtk9-dev libcgal-dev libyaml-cpp-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libopenmpi-dev
   python3 python3-matplotlib python3-numpy

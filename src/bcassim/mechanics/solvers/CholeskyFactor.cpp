@@ -1,5 +1,6 @@
 #include "bcassim/mechanics/solvers/CholeskyFactor.h"
 
+#include <dlfcn.h>
 #include <omp.h>
 
 #include <cholmod.h>
@@ -117,7 +118,18 @@ CholeskyFactor::~CholeskyFactor() = default;
 // Debian's CHOLMOD asks for 4 OpenMP threads in its supernodal kernels whatever OMP_NUM_THREADS
 // says; on 2 cores, and inside parallel sigma-point threads, that oversubscribes (2-4x slower).
 // Dynamic teams (a per-thread setting) let the runtime shrink them to the cores that are free.
-static void limitCholmodThreads() { omp_set_dynamic(1); }
+// When the BLAS behind CHOLMOD is OpenBLAS (the pthread build: the serial build is not safe for
+// concurrent calls from our sigma-point threads), keep each call on its calling thread.
+static void limitCholmodThreads() {
+  omp_set_dynamic(1);
+  static const bool blasLimited = [] {
+    using SetThreads = void (*)(int);
+    if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+      set(1);
+    return true;
+  }();
+  (void)blasLimited;
+}
 
 void CholeskyFactor::analyzePattern(const SparseMatrix& A) {
   if (A.rows() != A.cols()) throw std::invalid_argument("CholeskyFactor: matrix is not square");

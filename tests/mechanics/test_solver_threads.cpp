@@ -1,0 +1,53 @@
+// Sigma points factorise their own matrices at the same time: concurrent CHOLMOD factorisations
+// and solves on different threads must give exactly the sequential results (the BLAS under
+// CHOLMOD must be safe for concurrent calls: Debian's pthread OpenBLAS is, its serial build is not).
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "FemTestHelpers.h"
+#include "bcassim/mechanics/solvers/CholeskyFactor.h"
+
+namespace bcassim {
+namespace {
+
+SparseMatrix implicitEulerMatrix(double youngModulus) {
+  MechanicalModel model = testing::boxModel(Vec3(0.15, 0.03, 0.03), 16, 4, 4,
+                                             makeMaterial("stvk", youngModulus, 0.49));
+  Eigen::VectorXd f;
+  SparseMatrix K;
+  model.internalForcesAndStiffness(0.0, model.restPositions(), f, K);
+  K *= 1e-4;  // dt^2
+  model.mass.addTo(*model.pattern, 1.0, K);
+  return K;
+}
+
+TEST(CholeskyFactorThreads, ConcurrentFactorisationsEqualSequentialOnes) {
+  const SparseMatrix A = implicitEulerMatrix(8000.0), B = implicitEulerMatrix(12000.0);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 1.0);
+  Eigen::VectorXd xa, xb;
+  {
+    CholeskyFactor fa, fb;
+    fa.factorize(A);
+    fb.factorize(B);
+    fa.solve(b, xa);
+    fb.solve(b, xb);
+  }
+  for (int round = 0; round < 40; ++round) {
+    Eigen::VectorXd ya, yb;
+    auto work = [&b](const SparseMatrix& M, Eigen::VectorXd& y) {
+      CholeskyFactor factor;
+      factor.factorize(M);
+      factor.solve(b, y);
+    };
+    std::thread ta(work, std::cref(A), std::ref(ya));
+    std::thread tb(work, std::cref(B), std::ref(yb));
+    ta.join();
+    tb.join();
+    ASSERT_EQ((ya - xa).norm(), 0.0) << "round " << round;
+    ASSERT_EQ((yb - xb).norm(), 0.0) << "round " << round;
+  }
+}
+
+}  // namespace
+}  // namespace bcassim
