@@ -112,7 +112,7 @@ inline bool polarRotation(const Mat3& F, Mat3& R) {
   R = F;
   for (int it = 0; it < 20; ++it) {
     const double det = R.determinant();
-    const double zeta = it < 3 ? std::pow(std::abs(det), -1.0 / 3.0) : 1.0;
+    const double zeta = it < 3 ? 1.0 / std::cbrt(std::abs(det)) : 1.0;
     const Mat3 next = 0.5 * (zeta * R + R.inverse().transpose() / zeta);
     const double change = (next - R).squaredNorm();
     R = next;
