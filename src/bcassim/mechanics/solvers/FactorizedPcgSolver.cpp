@@ -1,5 +1,6 @@
 #include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
 
+#include <chrono>
 #include <stdexcept>
 
 #include "bcassim/mechanics/solvers/CholeskyPreconditioner.h"
@@ -26,7 +27,29 @@ void FactorizedPcgSolver::setMatrix(const SparseMatrix& A) {
   ++matricesSinceFactorization_;
   const bool due =
       policy_.everyNMatrices > 0 && matricesSinceFactorization_ > policy_.everyNMatrices;
-  if (!factor_->isFactorized() || !factor_->matchesPattern(A) || due) refactorize();
+  adoptFinishedRefresh();
+  if (!factor_->isFactorized() || !factor_->matchesPattern(A)) {
+    refactorize();
+  } else if (due && policy_.background) {
+    if (!pending_.valid()) {
+      std::shared_ptr<CholeskyFactor> next = factor_->cloneAnalysis();
+      pending_ = std::async(std::launch::async, [next, copy = SparseMatrix(A)] {
+        next->factorize(copy);
+        return next;
+      });
+    }
+    matricesSinceFactorization_ = 1;
+  } else if (due) {
+    refactorize();
+  }
+}
+
+void FactorizedPcgSolver::adoptFinishedRefresh() {
+  if (!pending_.valid() ||
+      pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return;
+  factor_ = pending_.get();
+  ++factorizations_;
 }
 
 void FactorizedPcgSolver::refactorize() {
@@ -43,6 +66,7 @@ void FactorizedPcgSolver::shareFactor(std::shared_ptr<CholeskyFactor> factor) {
 
 SolveStatus FactorizedPcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (A_ == nullptr) throw std::logic_error("FactorizedPcgSolver::solve before setMatrix");
+  adoptFinishedRefresh();
   SolveStatus first = preconditionedCg(*A_, b, x, CholeskyPreconditioner(*factor_, factorWork_),
                                        policy_.relTol, policy_.maxIterations, cgWork_);
   if (first.converged) return first;

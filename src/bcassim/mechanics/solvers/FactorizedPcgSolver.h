@@ -2,6 +2,7 @@
 // Alg. 4/5): the factorisation is computed rarely and reused across solves, time steps and,
 // shared read-only, across the sigma points solved in parallel threads.
 #pragma once
+#include <future>
 #include <memory>
 
 #include "bcassim/mechanics/solvers/CholeskyFactor.h"
@@ -16,6 +17,9 @@ struct RefreshPolicy {
       0;  // after this many setMatrix calls since the last factorisation; 0 = never
   int maxIterations = 20;  // when PCG does not converge within this many iterations
   double relTol = 1e-10;   // PCG stopping tolerance on |b - A x| / |b|
+  // Refreshes due by count run on another thread while the old factor keeps preconditioning; the
+  // new one is used from the first solve after it is ready (a core of its own hides its cost).
+  bool background = false;
 };
 
 class FactorizedPcgSolver final : public LinearSolver {
@@ -56,6 +60,9 @@ class FactorizedPcgSolver final : public LinearSolver {
   int factorizations_ = 0;
   CholeskyFactor::Workspace factorWork_;
   CgWorkspace cgWork_;
+  // Adopts a background factorisation once it is ready.
+  void adoptFinishedRefresh();
+  std::future<std::shared_ptr<CholeskyFactor>> pending_;
 };
 
 }  // namespace bcassim
