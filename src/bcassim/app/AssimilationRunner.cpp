@@ -201,20 +201,20 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
   switch (s.filter) {
     case FilterKind::Ukf: {
       UkfOptions o;
-      o.firstSigmaPointAlone = s.reuseFactorization;
+      o.firstSigmaPointAlone = false;
       o.sigmaPoints = s.sigmaPoints;
       o.processVariance = process;
       return std::make_unique<UkfFilter>(layout, models, executor, o);
     }
     case FilterKind::Roukf: {
       RoukfOptions o;
-      o.firstSigmaPointAlone = s.reuseFactorization;
+      o.firstSigmaPointAlone = false;
       o.sigmaPoints = s.sigmaPoints;
       return std::make_unique<RoukfFilter>(layout, models, executor, o);
     }
     case FilterKind::Etkf: {
       EtkfOptions o;
-      o.firstSigmaPointAlone = s.reuseFactorization;
+      o.firstSigmaPointAlone = false;
       o.members = s.members;
       o.seed = s.seed;
       o.processVariance = process;

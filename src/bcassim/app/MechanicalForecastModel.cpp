@@ -59,17 +59,21 @@ void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen
   work_ = reference_;
   unpackState(state, work_);
   setParameters(params);
-  // Thesis Alg. 4/5: worker 0 runs first and refreshes the factorisation when its policy says so;
-  // the others precondition their PCG with it.
+  // Thesis Alg. 4/5: worker 0 refreshes the factorisation when its policy says so; the others
+  // precondition their PCG with the one it published (SharedFactorization).
   auto* reuse = dynamic_cast<FactorizedPcgSolver*>(&integrator_.linearSolver());
   if (shared_ && reuse && worker_ != 0 && shared_->factor) reuse->shareFactor(shared_->factor);
   integrator_.step(model_, work_);
-  if (shared_ && reuse && worker_ == 0) shared_->factor = reuse->factor();
+  if (shared_ && reuse && worker_ == 0) {
+    shared_->next = reuse->factor();
+    if (shared_->withinStep) shared_->factor = shared_->next;
+  }
   newState = packState(work_);
   observe(work_, predicted);
 }
 
 void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) {
+  if (shared_ && worker_ == 0) shared_->factor = shared_->next;
   setParameters(params);
   if (options_.layout.positions && options_.layout.velocities) {
     unpackState(state, reference_);

@@ -18,18 +18,22 @@ struct ForecastStateLayout {
   bool velocities = true;  // carry node velocities (3N) after the positions
 };
 
-// Where the first sigma point's factorisation is published for the other workers of a step
-// (thesis Alg. 4/5). Shared by all workers of one filter; written only by worker 0 while the
-// others wait (FilterOptions::firstSigmaPointAlone).
+// Where worker 0's factorisation is published for the other workers (thesis Alg. 4/5). Worker 0
+// leaves its factor in `next` after each forecast; at endStep it becomes `factor`, which the other
+// workers precondition with during the following step. All sigma points of a step can thus run
+// at once and still reuse one factorisation, deterministically. With `withinStep` (needs
+// FilterOptions::firstSigmaPointAlone) the others use worker 0's factor of the same step.
 struct SharedFactorization {
   std::shared_ptr<CholeskyFactor> factor;
+  std::shared_ptr<CholeskyFactor> next;
+  bool withinStep = false;
 };
 
 struct ForecastModelOptions {
   ForecastStateLayout layout;
   std::string solver = "factorized-pcg";  // any makeLinearSolver name
   RefreshPolicy refresh;                  // factorized-pcg policy
-  // Share worker 0's factorisation with the other workers (needs firstSigmaPointAlone).
+  // Share worker 0's factorisation with the other workers (see SharedFactorization).
   bool shareFactorization = true;
 };
 
