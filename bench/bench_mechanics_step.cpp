@@ -151,6 +151,19 @@ void registerAll() {
           ->Iterations(kTimedSteps)
           ->UseRealTime();
     }
+    // Refresh every 4 steps on the second core while the old factor keeps preconditioning.
+    for (int every : {2, 4}) {
+      RefreshPolicy policy;
+      policy.everyNMatrices = every;
+      policy.relTol = 1e-8;
+      policy.background = true;
+      benchmark::RegisterBenchmark(
+          (p + "step_factorized_pcg_background_every" + std::to_string(every)).c_str(),
+          [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
+          ->Unit(kMillisecond)
+          ->Iterations(kTimedSteps)
+          ->UseRealTime();
+    }
     // Sanity check of the reuse: with the linear material the system matrix never changes, so
     // the stored factor is exact and PCG should need one or two iterations per step.
     benchmark::RegisterBenchmark((p + "step_factorized_pcg_linear").c_str(),
