@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "bcassim/app/AssimilationRunner.h"
+#include "bcassim/app/ProgressLine.h"
 
 namespace bcassim {
 
@@ -11,19 +12,14 @@ class AssimilationProgressBar {
  public:
   // out: where to draw (stderr). On a terminal the bar is redrawn in place at most 10 times a
   // second; otherwise one line is printed every 10 %.
-  explicit AssimilationProgressBar(std::FILE* out);
-  ~AssimilationProgressBar();
+  explicit AssimilationProgressBar(std::FILE* out) : line_(out, 20) {}
 
   void update(const AssimilationProgress& p);
   // Ends the bar's line if one was drawn.
-  void finish();
+  void finish() { line_.finish(); }
 
  private:
-  std::FILE* out_;
-  bool terminal_;
-  bool drawn_ = false;
-  double lastDraw_ = -1.0;
-  int lastDecile_ = -1;
+  ProgressLine line_;
 };
 
 }  // namespace bcassim

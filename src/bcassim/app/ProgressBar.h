@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdio>
 
+#include "bcassim/app/ProgressLine.h"
 #include "bcassim/app/SimulationRunner.h"
 
 namespace bcassim {
@@ -11,19 +12,14 @@ class ProgressBar {
  public:
   // out: where to draw (stderr). On a terminal the bar is redrawn in place at most 10 times a
   // second; otherwise one line is printed every 10 %.
-  explicit ProgressBar(std::FILE* out);
-  ~ProgressBar();
+  explicit ProgressBar(std::FILE* out) : line_(out, 24) {}
 
   void update(const RunProgress& p);
   // Ends the bar's line if one was drawn.
-  void finish();
+  void finish() { line_.finish(); }
 
  private:
-  std::FILE* out_;
-  bool terminal_;
-  bool drawn_ = false;
-  double lastDraw_ = -1.0;  // elapsed seconds at the last draw
-  int lastDecile_ = -1;
+  ProgressLine line_;
 };
 
 }  // namespace bcassim
