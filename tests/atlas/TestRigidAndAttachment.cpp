@@ -42,6 +42,36 @@ TEST(RigidAlignment, IcpAlignsMovedEllipsoid) {
   EXPECT_LT((r.translation - t.translation).norm(), 1e-3);
 }
 
+TEST(RigidAlignment, MultiStartIcpUndoesAHalfTurn) {
+  // A half turn about z on top of a small motion, far beyond the reach of ICP from the identity:
+  // one of the 24 axis-aligned starts is within 0.15 rad of it.
+  TriMesh target = test::makeIcosphere(1.0, 3);
+  target.V = target.V * Eigen::Vector3d(0.08, 0.05, 0.03).asDiagonal();
+  // A bump at +x so that the half turn is not a symmetry of the ellipsoid.
+  for (Eigen::Index i = 0; i < target.V.rows(); ++i)
+    if (target.V(i, 0) > 0.06) target.V(i, 0) += 0.02 * (target.V(i, 0) - 0.06) / 0.02;
+  TriMesh source = target;
+  RigidTransform t;
+  t.rotation = Eigen::AngleAxisd(3.14159265358979 + 0.15, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  t.translation = Eigen::Vector3d(0.01, -0.02, 0.015);
+  target.V = t.apply(target.V);
+  double rms = 1.0;
+  const RigidTransform r = alignRigidlyMultiStart(source, target, {}, 8, &rms);
+  EXPECT_LT((r.rotation - t.rotation).cwiseAbs().maxCoeff(), 1e-3);
+  EXPECT_LT((r.translation - t.translation).norm(), 1e-4);
+  EXPECT_LT(rms, 1e-4);  // of a 0.1 m shape (ICP converges slowly near the end)
+}
+
+TEST(SurfaceAttachment, StoredCoordinatesGiveTheSamePositions) {
+  const TriMesh s = test::makeIcosphere(0.05, 2);
+  const Eigen::MatrixX3d pts = test::randomMatrix(6, 0.05, 3);
+  const SurfaceAttachment a(s, pts);
+  const SurfaceAttachment b(a.corners(), a.weights());
+  EXPECT_EQ((a.positions(s.V) - b.positions(s.V)).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NEAR((a.weights().rowwise().sum().array() - 1.0).abs().maxCoeff(), 0.0, 1e-14);
+  EXPECT_THROW(SurfaceAttachment(a.corners(), a.weights().topRows(2)), InputError);
+}
+
 TEST(SurfaceAttachment, PointsFollowTheSurface) {
   const TriMesh s = test::makeIcosphere(0.05, 2);
   // A curve of points on the surface: vertex midpoints of some faces.

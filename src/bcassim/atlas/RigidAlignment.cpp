@@ -6,6 +6,8 @@
 #include <Eigen/SVD>
 #include <cmath>
 #include <limits>
+#include <vector>
+#include <algorithm>
 
 #include "bcassim/Error.h"
 #include "bcassim/mesh/ClosestPoint.h"
@@ -33,12 +35,10 @@ RigidTransform procrustes(const Eigen::MatrixX3d& P, const Eigen::MatrixX3d& Q) 
   return t;
 }
 
-RigidTransform alignRigidly(const TriMesh& source, const TriMesh& target,
-                            const IcpOptions& options) {
-  if (source.V.rows() < 3) throw InputError("rigid alignment: source has fewer than 3 vertices");
-  const SurfaceLocator locator(target);
-  RigidTransform total;
-  total.translation = (target.V.colwise().mean() - source.V.colwise().mean()).transpose();
+namespace {
+// ICP from `start`; returns the transform and writes the last RMS distance.
+RigidTransform icp(const TriMesh& source, const SurfaceLocator& locator, RigidTransform total,
+                   const IcpOptions& options, double* rmsOut) {
   double previousRms = std::numeric_limits<double>::infinity();
   Eigen::MatrixX3d closest(source.V.rows(), 3);
   for (int it = 0; it < options.maxIterations; ++it) {
@@ -50,6 +50,7 @@ RigidTransform alignRigidly(const TriMesh& source, const TriMesh& target,
       sum2 += sp.distance * sp.distance;
     }
     const double rms = std::sqrt(sum2 / static_cast<double>(moved.rows()));
+    if (rmsOut) *rmsOut = rms;
     if (std::abs(previousRms - rms) < options.tolerance) break;
     previousRms = rms;
     const RigidTransform step = procrustes(moved, closest);
@@ -57,6 +58,52 @@ RigidTransform alignRigidly(const TriMesh& source, const TriMesh& target,
     total.translation = step.rotation * total.translation + step.translation;
   }
   return total;
+}
+
+// Start of ICP: rotation R about the source centroid, then centroids matched.
+RigidTransform start(const TriMesh& source, const TriMesh& target, const Eigen::Matrix3d& R) {
+  RigidTransform t;
+  t.rotation = R;
+  t.translation = (target.V.colwise().mean().transpose() - R * source.V.colwise().mean().transpose());
+  return t;
+}
+}  // namespace
+
+RigidTransform alignRigidly(const TriMesh& source, const TriMesh& target,
+                            const IcpOptions& options) {
+  if (source.V.rows() < 3) throw InputError("rigid alignment: source has fewer than 3 vertices");
+  const SurfaceLocator locator(target);
+  return icp(source, locator, start(source, target, Eigen::Matrix3d::Identity()), options, nullptr);
+}
+
+RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& target,
+                                      const IcpOptions& options, int probeIterations,
+                                      double* rmsOut) {
+  if (source.V.rows() < 3) throw InputError("rigid alignment: source has fewer than 3 vertices");
+  const SurfaceLocator locator(target);
+  // The 24 proper rotations among signed permutation matrices, identity first.
+  std::vector<Eigen::Matrix3d> rotations;
+  const int perms[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {1, 0, 2}, {0, 2, 1}, {2, 1, 0}};
+  for (const auto& p : perms) {
+    for (int signs = 0; signs < 8; ++signs) {
+      Eigen::Matrix3d R = Eigen::Matrix3d::Zero();
+      for (int r = 0; r < 3; ++r) R(r, p[r]) = (signs >> r) & 1 ? -1.0 : 1.0;
+      if (R.determinant() > 0.0) rotations.push_back(R);
+    }
+  }
+  IcpOptions probe = options;
+  probe.maxIterations = std::max(1, probeIterations);
+  double bestRms = std::numeric_limits<double>::infinity();
+  RigidTransform best;
+  for (const Eigen::Matrix3d& R : rotations) {
+    double rms = std::numeric_limits<double>::infinity();
+    const RigidTransform t = icp(source, locator, start(source, target, R), probe, &rms);
+    if (rms < bestRms * (1.0 - 1e-9)) {
+      bestRms = rms;
+      best = t;
+    }
+  }
+  return icp(source, locator, best, options, rmsOut);
 }
 
 }  // namespace bcassim

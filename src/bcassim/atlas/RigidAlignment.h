@@ -28,4 +28,12 @@ struct IcpOptions {
 RigidTransform alignRigidly(const TriMesh& source, const TriMesh& target,
                             const IcpOptions& options = {});
 
+// Like alignRigidly, but ICP is started from each of the 24 rotations that map the coordinate
+// axes onto themselves (about the centroid) and the best start (smallest RMS distance after
+// `probeIterations`) is refined: shapes scanned in different orientations still align. The
+// identity wins ties. rmsOut (optional) receives the final RMS closest-point distance (m).
+RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& target,
+                                      const IcpOptions& options = {}, int probeIterations = 8,
+                                      double* rmsOut = nullptr);
+
 }  // namespace bcassim

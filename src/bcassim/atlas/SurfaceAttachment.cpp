@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <utility>
+
 #include "bcassim/Error.h"
 #include "bcassim/mesh/ClosestPoint.h"
 
@@ -15,6 +17,19 @@ SurfaceAttachment::SurfaceAttachment(const TriMesh& surface, const Eigen::Matrix
     corners_.row(i) = surface.F.row(sp.face);
     weights_.row(i) = sp.barycentric.transpose();
     distance_(i) = sp.distance;
+  }
+}
+
+SurfaceAttachment::SurfaceAttachment(Eigen::MatrixX3i corners, Eigen::MatrixX3d weights)
+    : corners_(std::move(corners)),
+      weights_(std::move(weights)),
+      distance_(Eigen::VectorXd::Zero(corners_.rows())) {
+  if (corners_.rows() != weights_.rows()) {
+    throw InputError(fmt::format("surface attachment: {} corner rows but {} weight rows",
+                                 corners_.rows(), weights_.rows()));
+  }
+  if (corners_.size() > 0 && corners_.minCoeff() < 0) {
+    throw InputError("surface attachment: negative vertex index");
   }
 }
 
