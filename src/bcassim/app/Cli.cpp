@@ -15,6 +15,7 @@
 #include "bcassim/Error.h"
 #include "bcassim/app/AssimilationProgressBar.h"
 #include "bcassim/app/AssimilationRunner.h"
+#include "bcassim/app/PlotScripts.h"
 #include "bcassim/app/ProgressBar.h"
 #include "bcassim/app/SceneLoader.h"
 #include "bcassim/app/SimulationRunner.h"
@@ -79,53 +80,8 @@ int simulate(const std::string& scenePath, const std::string& outDir, bool quiet
   return 0;
 }
 
-// scripts/plot_assimilation.py: $BCASSIM_PLOT_SCRIPT, else beside the executable's parent
-// (a build directory in the source tree) or in its share/bcassim (an installed tree).
-std::string findPlotScript() {
-  if (const char* env = std::getenv("BCASSIM_PLOT_SCRIPT")) return env;
-  std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec) return {};
-  const std::filesystem::path root = exe.parent_path().parent_path();
-  for (const auto& candidate : {root / "scripts" / "plot_assimilation.py",
-                                root / "share" / "bcassim" / "plot_assimilation.py"})
-    if (std::filesystem::is_regular_file(candidate, ec)) return candidate.string();
-  return {};
-}
-
-std::string shellQuote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
 // PNG plots of an output directory when python3 with matplotlib is there; one line either way.
-void plot(const std::string& outDir) {
-  const std::string script = findPlotScript();
-  if (script.empty()) {
-    fmt::print("plots skipped: scripts/plot_assimilation.py not found (set BCASSIM_PLOT_SCRIPT)\n");
-    return;
-  }
-  // The first python3 on PATH may be a private one (pyenv, venv) without the Debian package.
-  std::string python;
-  for (const char* candidate : {"python3", "/usr/bin/python3"}) {
-    const std::string probe = std::string(candidate) + " -c 'import matplotlib' > /dev/null 2>&1";
-    if (std::system(probe.c_str()) == 0) {
-      python = candidate;
-      break;
-    }
-  }
-  if (python.empty()) {
-    fmt::print(
-        "plots skipped: python3 with matplotlib not found (apt-get install "
-        "python3-matplotlib)\n");
-    return;
-  }
-  std::fflush(stdout);
-  const std::string cmd = python + " " + shellQuote(script) + " " + shellQuote(outDir);
-  if (std::system(cmd.c_str()) != 0)
-    fmt::print("plots failed: {} (the CSV files are complete)\n", cmd);
-}
+void plot(const std::string& outDir) { runPlotScript("plot_assimilation.py", {outDir}); }
 
 const char* filterName(FilterKind k) {
   return k == FilterKind::Ukf ? "ukf" : k == FilterKind::Roukf ? "roukf" : "etkf";
