@@ -1,0 +1,24 @@
+#include "bcassim/atlas/AtlasTransfer.h"
+
+#include "bcassim/Error.h"
+
+namespace bcassim {
+
+AtlasTransfer transferAtlas(const LigamentAtlas& atlas, const TriMesh& patient,
+                            const RegistrationOptions& options, bool rigidAlign) {
+  if (patient.F.rows() == 0) throw InputError("atlas transfer: the patient surface has no faces");
+  AtlasTransfer t;
+  if (rigidAlign) {
+    t.rigid = alignRigidlyMultiStart(atlas.templ, patient, {}, 8, &t.rigidRms);
+  } else {
+    t.rigid.translation = Eigen::Vector3d::Zero();
+  }
+  TriMesh moved = atlas.templ;
+  moved.V = t.rigid.apply(atlas.templ.V);
+  t.registration = registerSurface(moved, patient, options);
+  t.deformedTemplate = TriMesh{t.registration.deformedVertices, atlas.templ.F};
+  t.curve = carryCurve(atlas.curve, t.registration.deformedVertices);
+  return t;
+}
+
+}  // namespace bcassim

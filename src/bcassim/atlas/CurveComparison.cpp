@@ -1,0 +1,52 @@
+#include "bcassim/atlas/CurveComparison.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "bcassim/Error.h"
+#include "bcassim/atlas/PlaneIntersection.h"
+
+namespace bcassim {
+
+double distanceToPolyline(const Eigen::Vector3d& p, const Eigen::MatrixX3d& c) {
+  if (c.rows() == 0) throw InputError("curve distance: empty polyline");
+  double best = (p - c.row(0).transpose()).norm();
+  for (Eigen::Index i = 0; i + 1 < c.rows(); ++i) {
+    const Eigen::Vector3d a = c.row(i).transpose(), b = c.row(i + 1).transpose();
+    const Eigen::Vector3d ab = b - a;
+    const double l2 = ab.squaredNorm();
+    const double t = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (p - (a + t * ab)).norm());
+  }
+  return best;
+}
+
+CurveDistance compareCurves(const Eigen::MatrixX3d& expert, const Eigen::MatrixX3d& predicted,
+                            const CuttingPlaneFamily& planes) {
+  if (expert.rows() == 0 || predicted.rows() == 0) {
+    throw InputError("curve distance: a curve has no points");
+  }
+  CurveDistance d;
+  double sum = 0.0;
+  for (const CuttingPlane& plane : planes.planes) {
+    const auto he = intersectPolyline(expert, plane), hp = intersectPolyline(predicted, plane);
+    if (he.empty() || hp.empty()) continue;
+    double best = std::numeric_limits<double>::infinity();
+    for (const PlaneHit& a : he)
+      for (const PlaneHit& b : hp) best = std::min(best, (a.point - b.point).norm());
+    ++d.planes;
+    sum += best;
+    d.planeMax = std::max(d.planeMax, best);
+  }
+  if (d.planes > 0) d.planeMean = sum / d.planes;
+  double psum = 0.0;
+  for (Eigen::Index i = 0; i < expert.rows(); ++i) {
+    const double e = distanceToPolyline(expert.row(i).transpose(), predicted);
+    psum += e;
+    d.pointMax = std::max(d.pointMax, e);
+  }
+  d.pointMean = psum / static_cast<double>(expert.rows());
+  return d;
+}
+
+}  // namespace bcassim

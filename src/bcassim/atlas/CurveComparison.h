@@ -1,0 +1,27 @@
+// Distance between a predicted ligament curve and an expert one (thesis §5.2, Table 5.1): per
+// cutting plane crossed by both, and from every expert point to the predicted polyline.
+#pragma once
+#include <Eigen/Core>
+#include <vector>
+
+#include "bcassim/atlas/CuttingPlanes.h"
+
+namespace bcassim {
+
+struct CurveDistance {
+  int planes = 0;           // planes crossed by both curves
+  double planeMean = 0.0;   // mean distance between the two crossings of such a plane (m)
+  double planeMax = 0.0;    // largest of them (m)
+  double pointMean = 0.0;   // mean distance of the expert points to the predicted polyline (m)
+  double pointMax = 0.0;    // largest of them (m)
+};
+
+// Distance from point p to the polyline (rows in order; one row: that point).
+double distanceToPolyline(const Eigen::Vector3d& p, const Eigen::MatrixX3d& polyline);
+
+// expert, predicted: ordered polylines (m). A curve crossing a plane more than once contributes
+// its crossing nearest to the other curve's crossings. Throws InputError on an empty curve.
+CurveDistance compareCurves(const Eigen::MatrixX3d& expert, const Eigen::MatrixX3d& predicted,
+                            const CuttingPlaneFamily& planes);
+
+}  // namespace bcassim

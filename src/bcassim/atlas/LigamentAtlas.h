@@ -1,0 +1,56 @@
+// The statistical atlas of a ligament's attachment curve (thesis §4.3.3, §5.2, Fig. 4.3): rigid
+// pre-alignment, Fréchet-mean template (eq. 4.8), every subject's curve carried onto the template,
+// statistics over radial cutting planes through the template centre.
+#pragma once
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bcassim/atlas/CurveAtlas.h"
+#include "bcassim/atlas/Registration.h"
+#include "bcassim/mesh/TriMesh.h"
+
+namespace bcassim {
+
+// One annotated organ: its surface and the ordered attachment curve on it (m, its own frame).
+struct AtlasSubject {
+  std::string name;
+  TriMesh surface;
+  Eigen::MatrixX3d curve;
+};
+
+struct LigamentAtlasOptions {
+  RegistrationOptions registration;  // kernels, data term, shooting, L-BFGS
+  // true: template and momenta estimated jointly (eq. 4.8); false: the initial template is kept
+  // and registered onto each subject separately (cheaper, no mean shape).
+  bool frechetMean = true;
+  int templateSubject = 0;  // subject whose (centred) surface starts the template
+  bool rigidAlign = true;   // multi-start ICP of every subject onto the template subject
+  // Radial cutting planes: they contain the transverse axis (in the template subject's frame)
+  // through the template's bounding-box centre; angles cover [-90, 90] degrees around the mean
+  // direction of the curves, every planeStepDegrees.
+  Eigen::Vector3d transverse = Eigen::Vector3d::UnitX();
+  double planeStepDegrees = 5.0;
+  // A plane yields a mean point when at least this fraction of the curves crosses it.
+  double minCrossingFraction = 0.25;
+};
+
+struct LigamentAtlas {
+  TriMesh templ;   // mean shape (m), in the frame of the centred template subject
+  CurveAtlas curve;
+  std::vector<std::string> subjects;
+  std::vector<Eigen::MatrixX3d> carriedCurves;  // each subject's curve on the template (m)
+  std::vector<double> alignmentRms;             // rigid alignment residual per subject (m)
+  std::vector<double> data;  // data term D(template flowed onto subject i, subject i)
+};
+
+using AtlasLog = std::function<void(const std::string&)>;
+
+// Throws InputError on fewer than 2 subjects, a subject without faces or curve points, or a bad
+// template index.
+LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
+                                 const LigamentAtlasOptions& options = {},
+                                 const AtlasLog& log = {});
+
+}  // namespace bcassim

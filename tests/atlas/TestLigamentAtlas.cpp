@@ -1,0 +1,173 @@
+// The ligament-atlas pipeline on synthetic organs with known curves: rigid alignment, template,
+// curve statistics, transfer to a patient, comparison of curves and the atlas files.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "atlas/AtlasTestMeshes.h"
+#include "bcassim/Error.h"
+#include "bcassim/atlas/AtlasTransfer.h"
+#include "bcassim/atlas/CurveComparison.h"
+#include "bcassim/atlas/LigamentAtlas.h"
+#include "bcassim/atlas/LigamentAtlasFile.h"
+
+namespace bcassim {
+namespace {
+
+const Eigen::Vector3d kAxes(0.08, 0.05, 0.04);
+
+// Ellipsoid with a bump towards +x (so that no rotation maps it onto itself).
+TriMesh organ() {
+  TriMesh m = test::makeIcosphere(1.0, 3);
+  m.V = m.V * kAxes.asDiagonal();
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i)
+    if (m.V(i, 0) > 0.06) m.V(i, 0) += 0.5 * (m.V(i, 0) - 0.06);
+  return m;
+}
+
+// Curve on the ellipsoid in the plane x = x0: angles t in [-1, 1] rad from +y towards +z.
+Eigen::MatrixX3d curveAt(double x0, int n = 201) {
+  const double s = std::sqrt(1.0 - x0 * x0 / (kAxes.x() * kAxes.x()));
+  Eigen::MatrixX3d c(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double t = -1.0 + 2.0 * i / (n - 1);
+    c.row(i) << x0, kAxes.y() * s * std::cos(t), kAxes.z() * s * std::sin(t);
+  }
+  return c;
+}
+
+// The atlas template is the first subject centred on its bounding box.
+Eigen::RowVector3d organCentre() {
+  const TriMesh m = organ();
+  return 0.5 * (m.V.colwise().minCoeff() + m.V.colwise().maxCoeff());
+}
+
+RigidTransform motion(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d& shift) {
+  RigidTransform t;
+  t.rotation = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+  t.translation = shift;
+  return t;
+}
+
+std::vector<AtlasSubject> subjects(double d) {
+  const TriMesh base = organ();
+  const RigidTransform moves[3] = {motion(0.0, {0, 0, 1}, {0, 0, 0}),
+                                   motion(std::numbers::pi + 0.1, {0, 0, 1}, {0.3, 0.1, -0.2}),
+                                   motion(0.2, {1, 1, 0}, {-0.05, 0.02, 0.01})};
+  const double xs[3] = {0.0, -d, d};
+  std::vector<AtlasSubject> out;
+  for (int i = 0; i < 3; ++i) {
+    AtlasSubject s{"s" + std::to_string(i), base, curveAt(xs[i])};
+    s.surface.V = moves[i].apply(base.V);
+    s.curve = moves[i].apply(s.curve);
+    out.push_back(s);
+  }
+  return out;
+}
+
+LigamentAtlasOptions quickOptions() {
+  LigamentAtlasOptions o;
+  o.registration.sigmaV = 0.03;
+  o.registration.sigmaW = 0.015;
+  o.registration.lbfgs.maxIterations = 5;
+  o.planeStepDegrees = 10.0;
+  return o;
+}
+
+TEST(LigamentAtlas, MeanAndSigmaOfShiftedCurvesOnMovedOrgans) {
+  const double d = 0.015;
+  const LigamentAtlas atlas = buildLigamentAtlas(subjects(d), quickOptions());
+  ASSERT_EQ(atlas.carriedCurves.size(), 3u);
+  for (double rms : atlas.alignmentRms) EXPECT_LT(rms, 5e-4);  // 0.5 mm on a 0.17 m organ
+  // The curves span polar angles of about -0.9..0.9 rad around +y: planes inside are crossed by
+  // all three (the two planes at the ends, at 50 degrees, by some).
+  const CarriedCurve c = carryCurve(atlas.curve, atlas.templ.V);
+  int full = 0;
+  for (Eigen::Index i = 0; i < c.mean.rows(); ++i) {
+    if (atlas.curve.count[i] < 3) continue;
+    ++full;
+    // Mean of the curves at x = -d, 0, d: the curve at x = 0, shifted like the template by its
+    // bounding-box centre, up to the faceting of the level-3 mesh.
+    EXPECT_NEAR(c.mean(i, 0), -organCentre().x(), 1e-3) << i;
+    const double theta = atlas.curve.planes.planes[atlas.curve.plane[i]].parameter;
+    EXPECT_LT(std::abs(theta), 1.0);
+    // sigma: RMS of the x offsets (sqrt(2/3) d), plus the small in-plane spread of the two
+    // off-centre curves (their cross-sections are smaller).
+    EXPECT_NEAR(atlas.curve.sigma(i), std::sqrt(2.0 / 3.0) * d, 0.1 * d) << i;
+  }
+  EXPECT_GE(full, 9);
+}
+
+TEST(LigamentAtlas, TransferFollowsAScaledRotatedPatient) {
+  const LigamentAtlas atlas = buildLigamentAtlas(subjects(0.01), quickOptions());
+  // Patient: the organ 10 % larger, turned and moved.
+  const RigidTransform m = motion(0.4, {0, 1, 1}, {0.1, 0.2, 0.3});
+  TriMesh patient = organ();
+  patient.V = m.apply(1.1 * patient.V);
+  RegistrationOptions ro = quickOptions().registration;
+  ro.lbfgs.maxIterations = 30;
+  ro.sigmaW = 0.005;  // sharp enough to fix the tangential slide (0.015: 2.4 mm off)
+  const AtlasTransfer t = transferAtlas(atlas, patient, ro);
+  EXPECT_LT(t.registration.data, 0.1 * t.registration.initialData);
+  // Expected: the atlas mean (at x = 0 of the template) scaled and moved like the patient.
+  const CarriedCurve onTemplate = carryCurve(atlas.curve, atlas.templ.V);
+  const Eigen::MatrixX3d expected =
+      m.apply(1.1 * (onTemplate.mean.rowwise() + organCentre()));
+  const double err = (t.curve.mean - expected).rowwise().norm().maxCoeff();
+  const double meanErr = (t.curve.mean - expected).rowwise().norm().mean();
+  // Rigid alignment alone leaves the 10 % size difference: the curve off by about 5 mm.
+  const double rigidErr =
+      (carryCurve(atlas.curve, t.rigid.apply(atlas.templ.V)).mean - expected).rowwise().norm().mean();
+  std::printf("transfer error: mean %.2f mm, max %.2f mm (rigid only: mean %.2f mm)\n",
+              1e3 * meanErr, 1e3 * err, 1e3 * rigidErr);
+  EXPECT_LT(err, 0.5e-3) << "max error " << err << " m";
+  EXPECT_GT(rigidErr, 4e-3);
+  // The band is carried too, with about the atlas sigma scaled by 1.1.
+  for (Eigen::Index i = 0; i < t.curve.sigma.rows(); ++i)
+    EXPECT_NEAR(t.curve.sigma(i), 1.1 * onTemplate.sigma(i), 0.3 * onTemplate.sigma(i));
+}
+
+TEST(LigamentAtlas, FilesRoundTrip) {
+  const LigamentAtlas atlas = buildLigamentAtlas(subjects(0.01), quickOptions());
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "bcassim-test-atlas-files";
+  writeLigamentAtlas(dir.string(), atlas);
+  const LigamentAtlas back = readLigamentAtlas(dir.string());
+  EXPECT_EQ(back.templ.F, atlas.templ.F);
+  EXPECT_EQ((back.templ.V - atlas.templ.V).cwiseAbs().maxCoeff(), 0.0);
+  const CarriedCurve a = carryCurve(atlas.curve, atlas.templ.V);
+  const CarriedCurve b = carryCurve(back.curve, back.templ.V);
+  EXPECT_EQ((a.mean - b.mean).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((a.upper - b.upper).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(back.curve.plane, atlas.curve.plane);
+  EXPECT_EQ(back.curve.planes.planes.size(), atlas.curve.planes.planes.size());
+  EXPECT_EQ(back.carriedCurves.size(), 3u);
+  EXPECT_THROW(readLigamentAtlas((dir / "nothing").string()), InputError);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CurveComparison, ParallelCurvesAtKnownDistance) {
+  // Two arcs at x = 0 and x = 0.004: every radial plane around x sees them 4 mm apart, and every
+  // point of one is 4 mm from the other.
+  const Eigen::MatrixX3d a = curveAt(0.0, 401), b = curveAt(0.004, 401);
+  const CuttingPlaneFamily f =
+      radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, evenAngles(-0.75, 0.75, 7));
+  const CurveDistance d = compareCurves(a, b, f);
+  EXPECT_EQ(d.planes, 7);
+  // The cross-section at x = 0.004 is smaller by a factor sqrt(1 - (0.004/0.08)^2).
+  const double shrink = 0.05 * (1.0 - std::sqrt(1.0 - 0.0025));
+  EXPECT_GT(d.planeMean, 0.004);
+  EXPECT_LT(d.planeMax, std::hypot(0.004, shrink) + 1e-9);
+  EXPECT_NEAR(d.pointMean, 0.004, shrink + 1e-6);
+  // A point beyond the end of a segment is measured to the end point.
+  Eigen::MatrixX3d seg(2, 3);
+  seg << 0, 0, 0, 1, 0, 0;
+  EXPECT_DOUBLE_EQ(distanceToPolyline({2, 1, 0}, seg), std::sqrt(2.0));
+  EXPECT_DOUBLE_EQ(distanceToPolyline({0.5, 0, 3}, seg), 3.0);
+}
+
+}  // namespace
+}  // namespace bcassim
