@@ -15,6 +15,7 @@
 #include "bcassim/Error.h"
 #include "bcassim/app/AssimilationProgressBar.h"
 #include "bcassim/app/AssimilationRunner.h"
+#include "bcassim/app/AtlasCommands.h"
 #include "bcassim/app/PlotScripts.h"
 #include "bcassim/app/ProgressBar.h"
 #include "bcassim/app/SceneLoader.h"
@@ -214,6 +215,7 @@ int run(int argc, char** argv) {
   info->add_option("file", meshPath, "Tet mesh (.vtk, .vtu, .msh), coordinates in metres")
       ->required();
   info->add_option("--region-field", regionField, "Integer cell array holding the region ids");
+  addAtlasCommands(app);
 
   try {
     app.parse(argc, argv);

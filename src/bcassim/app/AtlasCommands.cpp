@@ -1,0 +1,354 @@
+#include "bcassim/app/AtlasCommands.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "bcassim/Error.h"
+#include "bcassim/app/PlotScripts.h"
+#include "bcassim/atlas/AtlasTransfer.h"
+#include "bcassim/atlas/CurveComparison.h"
+#include "bcassim/atlas/FaceKernelDistance.h"
+#include "bcassim/atlas/LigamentAtlasFile.h"
+#include "bcassim/atlas/Registration.h"
+#include "bcassim/io/MeshWriter.h"
+#include "bcassim/io/SurfaceReader.h"
+#include "bcassim/ligaments/AttachmentCurve.h"
+#include "bcassim/ligaments/EsegLabels.h"
+
+namespace bcassim {
+namespace {
+namespace fs = std::filesystem;
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+TriMesh readScaled(const std::string& path, double scale) {
+  if (!fs::is_regular_file(path)) {
+    throw InputError(fmt::format("{}: no such file (expected a triangle surface .obj/.stl/.vtk/.vtp)",
+                                 path));
+  }
+  TriMesh m = readSurface(path);
+  if (m.F.rows() == 0) throw InputError(fmt::format("{}: expected triangles, found none", path));
+  m.V *= scale;
+  return m;
+}
+
+// Options shared by the commands that register.
+struct RegistrationFlags {
+  double sigmaV = 0.03, sigmaW = 0.006;
+  int iterations = 100;
+  std::string kernel = "varifold";
+  void add(CLI::App* c) {
+    c->add_option("--sigma-v", sigmaV, "Deformation kernel width and control-point spacing (m)")
+        ->capture_default_str();
+    c->add_option("--sigma-w", sigmaW, "Data-term kernel width (m)")->capture_default_str();
+    c->add_option("--iterations", iterations, "Most L-BFGS iterations")->capture_default_str();
+    c->add_option("--kernel", kernel, "Data term: varifold or current")
+        ->check(CLI::IsMember({"varifold", "current"}))
+        ->capture_default_str();
+  }
+  RegistrationOptions options() const {
+    RegistrationOptions o;
+    o.sigmaV = sigmaV;
+    o.sigmaW = sigmaW;
+    o.dataTerm = kernel == "current" ? FaceKernelKind::Current : FaceKernelKind::Varifold;
+    o.lbfgs.maxIterations = iterations;
+    return o;
+  }
+};
+
+// Ordered points as a .vtp polyline with optional point scalars.
+void writeCurve(const fs::path& path, const Eigen::MatrixX3d& points, const FieldSet& fields = {}) {
+  Eigen::MatrixX2i seg(std::max<Eigen::Index>(0, points.rows() - 1), 2);
+  for (Eigen::Index i = 0; i < seg.rows(); ++i) seg.row(i) << int(i), int(i + 1);
+  FieldSet cells;  // per-segment copies of the point scalars (mean of the ends)
+  for (const auto& [name, v] : fields.pointScalars) {
+    Eigen::VectorXd c(seg.rows());
+    for (Eigen::Index i = 0; i < seg.rows(); ++i) c(i) = 0.5 * (v(i) + v(i + 1));
+    cells.cellScalars.push_back({name, c});
+  }
+  writePolyLines(path.string(), points, seg, cells);
+}
+
+void writeXyzSigma(const fs::path& path, const Eigen::MatrixX3d& p, const Eigen::VectorXd& sigma) {
+  std::ofstream f(path);
+  if (!f) throw InputError(fmt::format("{}: cannot write", path.string()));
+  f.precision(17);
+  f << "x,y,z,sigma\n";
+  for (Eigen::Index i = 0; i < p.rows(); ++i)
+    f << p(i, 0) << ',' << p(i, 1) << ',' << p(i, 2) << ',' << sigma(i) << '\n';
+}
+
+void writeXyz(const fs::path& path, const Eigen::MatrixX3d& p) {
+  writeXyzSigma(path, p, Eigen::VectorXd::Zero(p.rows()));
+}
+
+void writeCurveSet(const fs::path& path, const std::vector<Eigen::MatrixX3d>& curves) {
+  std::ofstream f(path);
+  if (!f) throw InputError(fmt::format("{}: cannot write", path.string()));
+  f.precision(17);
+  f << "curve,x,y,z\n";
+  for (size_t c = 0; c < curves.size(); ++c)
+    for (Eigen::Index i = 0; i < curves[c].rows(); ++i)
+      f << c << ',' << curves[c](i, 0) << ',' << curves[c](i, 1) << ',' << curves[c](i, 2) << '\n';
+}
+
+// Surface, mean curve and band of one output folder, for ParaView and for scripts/plot_atlas.py.
+void writePicturedCurve(const fs::path& dir, const TriMesh& surface, const CarriedCurve& c) {
+  writeSurface((dir / "surface.vtp").string(), surface);
+  writeSurface((dir / "surface.obj").string(), surface);
+  writeXyzSigma(dir / "mean_curve.csv", c.mean, c.sigma);
+  writeXyz(dir / "band_lower.csv", c.lower);
+  writeXyz(dir / "band_upper.csv", c.upper);
+  FieldSet f;
+  f.pointScalars.push_back({"sigma_m", c.sigma});
+  writeCurve(dir / "mean_curve.vtp", c.mean, f);
+  writeCurve(dir / "band_lower.vtp", c.lower);
+  writeCurve(dir / "band_upper.vtp", c.upper);
+}
+
+void plotAtlas(const fs::path& dir, const std::string& title) {
+  std::fflush(stdout);
+  if (runPlotScript("plot_atlas.py", {dir.string(), title}))
+    fmt::print("wrote {}\n", (dir / "atlas.png").string());
+}
+
+[[noreturn]] void done() { throw CLI::Success(); }
+
+// ---------------------------------------------------------------------------------------------
+
+struct DistanceArgs {
+  std::string a, b, kernel = "varifold";
+  double sigma = 0.01, scale = 1e-3;
+};
+
+void runDistance(const DistanceArgs& d) {
+  const TriMesh a = readScaled(d.a, d.scale), b = readScaled(d.b, d.scale);
+  const FaceKernelKind k = d.kernel == "current" ? FaceKernelKind::Current : FaceKernelKind::Varifold;
+  const FaceKernelDistance dist(b, d.sigma, k);
+  fmt::print("{:.10g}\n", dist.value(a.V, a.F));
+  done();
+}
+
+struct RegisterArgs {
+  std::string source, target, out = "out/atlas-register";
+  double scale = 1e-3;
+  bool rigid = false;
+  RegistrationFlags reg;
+};
+
+void runRegister(const RegisterArgs& r) {
+  TriMesh source = readScaled(r.source, r.scale);
+  const TriMesh target = readScaled(r.target, r.scale);
+  const fs::path out(r.out);
+  fs::create_directories(out);
+  if (r.rigid) {
+    double rms = 0.0;
+    const RigidTransform t = alignRigidlyMultiStart(source, target, {}, 8, &rms);
+    source.V = t.apply(source.V);
+    fmt::print("rigid alignment: RMS closest-point distance {:.2f} mm\n", 1e3 * rms);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const RegistrationResult res = registerSurface(source, target, r.reg.options());
+  const double s = secondsSince(t0);
+  fmt::print("{} -> {}: {} / {} faces, {} control points, {} iterations ({} evaluations), {:.2f} s\n",
+             r.source, r.target, source.F.rows(), target.F.rows(), res.controlPoints.rows(),
+             res.iterations, res.evaluations, s);
+  fmt::print("data term {:.4g} -> {:.4g} ({:.1f} % left), regularity {:.4g}\n", res.initialData,
+             res.data, 100.0 * res.data / res.initialData, res.regularity);
+  writeSurface((out / "source.vtp").string(), source);
+  writeSurface((out / "target.vtp").string(), target);
+  writeSurface((out / "deformed.vtp").string(), TriMesh{res.deformedVertices, source.F});
+  FieldSet f;
+  f.pointVectors.push_back({"momentum", res.momenta});
+  writePointCloud((out / "control_points.vtp").string(), res.controlPoints, f);
+  fmt::print("wrote {}/{{source,target,deformed,control_points}}.vtp\n", out.string());
+  done();
+}
+
+struct BuildArgs {
+  std::string dir, out = "out/atlas";
+  int label = 2, maxSubjects = 0;
+  std::vector<std::string> exclude;
+  double scale = 1e-3, planeStep = 5.0;
+  bool noFrechet = false;
+  RegistrationFlags reg;
+};
+
+void runBuild(BuildArgs b) {
+  const auto t0 = std::chrono::steady_clock::now();
+  LiverFolder livers = readAnnotatedLivers(b.dir, b.label, b.scale);
+  for (const std::string& s : livers.skipped) fmt::print("skipped {}\n", s);
+  std::erase_if(livers.subjects, [&](const AtlasSubject& s) {
+    return std::find(b.exclude.begin(), b.exclude.end(), s.name) != b.exclude.end();
+  });
+  if (b.maxSubjects > 0 && static_cast<int>(livers.subjects.size()) > b.maxSubjects)
+    livers.subjects.resize(static_cast<size_t>(b.maxSubjects));
+  if (livers.subjects.size() < 2) {
+    throw InputError(fmt::format("{}: expected at least 2 usable NAME.obj + NAME.eseg livers, found {}",
+                                 b.dir, livers.subjects.size()));
+  }
+  fmt::print("{} livers from {}\n", livers.subjects.size(), b.dir);
+  LigamentAtlasOptions o;
+  o.registration = b.reg.options();
+  o.frechetMean = !b.noFrechet;
+  o.planeStepDegrees = b.planeStep;
+  const LigamentAtlas atlas = buildLigamentAtlas(livers.subjects, o, [](const std::string& s) {
+    fmt::print("{}\n", s);
+    std::fflush(stdout);
+  });
+  const fs::path out(b.out);
+  writeLigamentAtlas(out.string(), atlas);
+  writePicturedCurve(out, atlas.templ, carryCurve(atlas.curve, atlas.templ.V));
+  writeCurveSet(out / "curves.csv", atlas.carriedCurves);
+  fmt::print("atlas of {} livers: {} curve points, sigma {:.1f} - {:.1f} mm, {:.1f} s; wrote {}\n",
+             atlas.subjects.size(), atlas.curve.mean.size(), 1e3 * atlas.curve.sigma.minCoeff(),
+             1e3 * atlas.curve.sigma.maxCoeff(), secondsSince(t0), out.string());
+  plotAtlas(out, fmt::format("atlas of {} livers: mean falciform curve and ±σ band",
+                             atlas.subjects.size()));
+  done();
+}
+
+struct TransferArgs {
+  std::string atlas, patient, out = "out/atlas-transfer", eseg;
+  int label = 2;
+  double scale = 1e-3;
+  RegistrationFlags reg;
+};
+
+void runTransfer(const TransferArgs& t) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const LigamentAtlas atlas = readLigamentAtlas(t.atlas);
+  const TriMesh patient = readScaled(t.patient, t.scale);
+  const AtlasTransfer tr = transferAtlas(atlas, patient, t.reg.options());
+  const fs::path out(t.out);
+  fs::create_directories(out);
+  writePicturedCurve(out, tr.deformedTemplate, tr.curve);
+  writeXyzSigma(out / "ligament_curve.csv", tr.curve.mean, tr.curve.sigma);
+  writeSurface((out / "patient.vtp").string(), patient);
+  fmt::print("registration: {} iterations, data {:.4g} -> {:.4g}; {} curve points, {:.1f} s\n",
+             tr.registration.iterations, tr.registration.initialData, tr.registration.data,
+             tr.curve.mean.rows(), secondsSince(t0));
+  if (!t.eseg.empty()) {
+    TriMesh raw = readSurface(t.patient);
+    const LabelledEdges e = readEseg(t.eseg, raw);
+    Eigen::MatrixX3d expert = extractAttachmentCurve(raw, e, t.label, t.eseg).points * t.scale;
+    writeXyz(out / "expert_curve.csv", expert);
+    const CurveDistance d = compareCurves(
+        expert, tr.curve.mean,
+        transformed(atlas.curve.planes, tr.rigid.rotation, tr.rigid.translation));
+    fmt::print("distance to the expert curve: planes {} mean {:.1f} mm max {:.1f} mm; points mean "
+               "{:.1f} mm max {:.1f} mm\n",
+               d.planes, 1e3 * d.planeMean, 1e3 * d.planeMax, 1e3 * d.pointMean, 1e3 * d.pointMax);
+  }
+  fmt::print("wrote {} (x,y,z,sigma in m, patient frame) and .vtp files\n",
+             (out / "ligament_curve.csv").string());
+  plotAtlas(out, "atlas transferred to " + fs::path(t.patient).filename().string());
+  done();
+}
+
+}  // namespace
+
+LiverFolder readAnnotatedLivers(const std::string& dir, int label, double scale) {
+  if (!fs::is_directory(dir)) {
+    throw InputError(fmt::format("{}: expected a folder of NAME.obj + NAME.eseg livers", dir));
+  }
+  std::vector<fs::path> objs;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".obj") objs.push_back(e.path());
+  std::sort(objs.begin(), objs.end());
+  LiverFolder out;
+  for (const fs::path& obj : objs) {
+    const std::string name = obj.stem().string();
+    fs::path eseg = obj;
+    eseg.replace_extension(".eseg");
+    if (!fs::exists(eseg)) {
+      out.skipped.push_back(name + ": no .eseg beside it");
+      continue;
+    }
+    try {
+      const TriMesh m = readSurface(obj.string());
+      const LabelledEdges e = readEseg(eseg.string(), m);
+      // Pieces of the annotation farther than 30 mm from the main one are stray labels.
+      const AttachmentCurve c = extractAttachmentCurve(m, e, label, eseg.string(), 30.0e-3 / scale);
+      if (c.points.rows() < 2) {
+        out.skipped.push_back(name + ": the labelled curve has fewer than 2 points");
+        continue;
+      }
+      out.subjects.push_back({name, TriMesh{m.V * scale, m.F}, c.points * scale});
+    } catch (const InputError& err) {
+      out.skipped.push_back(name + ": " + err.what());
+    }
+  }
+  return out;
+}
+
+void addAtlasCommands(CLI::App& app) {
+  CLI::App* atlas = app.add_subcommand(
+      "atlas", "Statistical atlas of ligament curves (LDDMM registration, thesis §4.3, §5.2)");
+  atlas->require_subcommand(1);
+  const char* scaleHelp = "Factor from file coordinates to metres (the shared livers are mm)";
+
+  auto d = std::make_shared<DistanceArgs>();
+  CLI::App* dist = atlas->add_subcommand("distance", "Varifold or current distance of two surfaces");
+  dist->add_option("A", d->a, "First surface")->required();
+  dist->add_option("B", d->b, "Second surface")->required();
+  dist->add_option("--kernel", d->kernel, "varifold or current")
+      ->check(CLI::IsMember({"varifold", "current"}))
+      ->capture_default_str();
+  dist->add_option("--sigma", d->sigma, "Kernel width (m)")->capture_default_str();
+  dist->add_option("--scale", d->scale, scaleHelp)->capture_default_str();
+  dist->callback([d] { runDistance(*d); });
+
+  auto r = std::make_shared<RegisterArgs>();
+  CLI::App* reg = atlas->add_subcommand("register", "LDDMM registration of SOURCE onto TARGET");
+  reg->add_option("SOURCE", r->source, "Surface deformed")->required();
+  reg->add_option("TARGET", r->target, "Surface matched")->required();
+  reg->add_option("-o,--out", r->out, "Output folder")->capture_default_str();
+  reg->add_option("--scale", r->scale, scaleHelp)->capture_default_str();
+  reg->add_flag("--rigid", r->rigid, "Align rigidly first (multi-start ICP)");
+  r->reg.add(reg);
+  reg->callback([r] { runRegister(*r); });
+
+  auto b = std::make_shared<BuildArgs>();
+  CLI::App* build = atlas->add_subcommand("build", "Atlas of a ligament curve from annotated livers");
+  build->add_option("LIVER_DIR", b->dir, "Folder of NAME.obj surfaces with NAME.eseg edge labels")
+      ->required();
+  build->add_option("-o,--out", b->out, "Atlas folder")->capture_default_str();
+  build->add_option("--label", b->label, ".eseg label of the curve (2: falciform)")
+      ->capture_default_str();
+  build->add_option("--max-livers", b->maxSubjects, "Use the first N usable livers (0: all)");
+  build->add_option("--exclude", b->exclude, "Liver names to leave out (e.g. LiTS-3)");
+  build->add_option("--plane-step", b->planeStep, "Angle between radial cutting planes (degrees)")
+      ->capture_default_str();
+  build->add_flag("--no-frechet", b->noFrechet,
+                  "Keep the first liver as template instead of the Frechet mean (faster)");
+  build->add_option("--scale", b->scale, scaleHelp)->capture_default_str();
+  b->reg.iterations = 60;
+  b->reg.add(build);
+  build->callback([b] { runBuild(*b); });
+
+  auto t = std::make_shared<TransferArgs>();
+  CLI::App* tr = atlas->add_subcommand(
+      "transfer", "Register an atlas onto a patient surface; writes ligament_curve.csv (x,y,z,sigma)");
+  tr->add_option("ATLAS", t->atlas, "Atlas folder of 'bcassim atlas build'")->required();
+  tr->add_option("PATIENT", t->patient, "Patient liver surface")->required();
+  tr->add_option("-o,--out", t->out, "Output folder")->capture_default_str();
+  tr->add_option("--eseg", t->eseg, "Expert .eseg of the patient: report the distance to it");
+  tr->add_option("--label", t->label, ".eseg label of the curve (2: falciform)")
+      ->capture_default_str();
+  tr->add_option("--scale", t->scale, scaleHelp)->capture_default_str();
+  t->reg.add(tr);
+  tr->callback([t] { runTransfer(*t); });
+}
+
+}  // namespace bcassim
