@@ -11,7 +11,8 @@ enum class FaceKernelKind { Varifold, Current };
 
 // Returns <a, b>. When gc and gn are non-null they receive d<a, b>/dc_i and d<a, b>/dn_i
 // (#a by 3 each, resized) with b held fixed. sigma: kernel width (m).
-// Blocked over (i, j) tiles, vectorised over j, parallel over blocks of i; deterministic.
+// Blocked over (i, j) tiles, vectorised over j (AVX-512, AVX2+FMA or SSE, picked at run time),
+// parallel over blocks of i; deterministic on a given CPU.
 double faceKernelSum(const OrientedFaces& a, const OrientedFaces& b, double sigma,
                      FaceKernelKind kind, Eigen::MatrixX3d* gc = nullptr,
                      Eigen::MatrixX3d* gn = nullptr);

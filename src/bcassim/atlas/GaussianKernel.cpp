@@ -11,6 +11,10 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/atlas/FastExp.h"
+#include "bcassim/atlas/KernelSimd.h"
+
+// Vector-extension values only cross always-inlined helpers: the ABI note does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace bcassim {
 namespace {
@@ -57,6 +61,106 @@ void forEachRow(Eigen::Index n, Body&& body) {
     for (Eigen::Index i = b * kBlockI; i < end; ++i) body(i);
   });
 }
+
+// Columns of a #n by 3 matrix copied into arrays padded to a multiple of the widest vector (8),
+// padding filled with `pad` (far positions, or zero weights, so padded terms vanish).
+struct Padded3 {
+  Eigen::Index n = 0, padded = 0;
+  std::vector<double> c[3];
+  Padded3(const Eigen::MatrixX3d& m, double pad) : n(m.rows()), padded((m.rows() + 7) / 8 * 8) {
+    for (int d = 0; d < 3; ++d) {
+      c[d].assign(static_cast<size_t>(padded), pad);
+      for (Eigen::Index i = 0; i < n; ++i) c[d][i] = m(i, d);
+    }
+  }
+};
+constexpr double kFar = 1e150;
+
+struct ConvolveCtx {
+  const Eigen::MatrixX3d* x;
+  const Padded3* y;
+  const Padded3* w;
+  double s;
+  Eigen::MatrixX3d* v;
+};
+
+template <int W>
+__attribute__((always_inline)) inline void convolveBody(const ConvolveCtx& c, Eigen::Index b) {
+  using V = simd::Vd<W>;
+  const Eigen::Index end = std::min(c.x->rows(), (b + 1) * kBlockI);
+  const double *y0 = c.y->c[0].data(), *y1 = c.y->c[1].data(), *y2 = c.y->c[2].data();
+  const double *w0 = c.w->c[0].data(), *w1 = c.w->c[1].data(), *w2 = c.w->c[2].data();
+  for (Eigen::Index i = b * kBlockI; i < end; ++i) {
+    const double p0 = (*c.x)(i, 0), p1 = (*c.x)(i, 1), p2 = (*c.x)(i, 2);
+    V a0{}, a1{}, a2{};
+    for (Eigen::Index j = 0; j < c.y->padded; j += W) {
+      const V d0 = p0 - simd::load<W>(y0 + j), d1 = p1 - simd::load<W>(y1 + j),
+              d2 = p2 - simd::load<W>(y2 + j);
+      const V k = simd::gauss<W>(d0 * d0 + d1 * d1 + d2 * d2, c.s);
+      a0 += k * simd::load<W>(w0 + j);
+      a1 += k * simd::load<W>(w1 + j);
+      a2 += k * simd::load<W>(w2 + j);
+    }
+    (*c.v)(i, 0) = simd::hsum<W>(a0);
+    (*c.v)(i, 1) = simd::hsum<W>(a1);
+    (*c.v)(i, 2) = simd::hsum<W>(a2);
+  }
+}
+BCASSIM_SIMD_DISPATCH(convolveBlock, convolveBody, (const ConvolveCtx& c, Eigen::Index b), (c, b))
+
+struct VjpCtx {
+  const Eigen::MatrixX3d* x;
+  const Eigen::MatrixX3d* eta;
+  const Padded3* y;
+  const Padded3* w;
+  double s;
+  Eigen::MatrixX3d* gx;  // #x by 3, written row by row
+};
+
+// Rows of block b; scatter (when non-null) receives dL/dy (3 padded columns) then dL/dw (3).
+template <int W>
+__attribute__((always_inline)) inline void vjpBody(const VjpCtx& c, Eigen::Index b,
+                                                   double* scatter) {
+  using V = simd::Vd<W>;
+  const Eigen::Index end = std::min(c.x->rows(), (b + 1) * kBlockI);
+  const Eigen::Index np = c.y->padded;
+  const double *y0 = c.y->c[0].data(), *y1 = c.y->c[1].data(), *y2 = c.y->c[2].data();
+  const double *w0 = c.w->c[0].data(), *w1 = c.w->c[1].data(), *w2 = c.w->c[2].data();
+  const double twoS = 2.0 * c.s;
+  for (Eigen::Index i = b * kBlockI; i < end; ++i) {
+    const double p0 = (*c.x)(i, 0), p1 = (*c.x)(i, 1), p2 = (*c.x)(i, 2);
+    const double e0 = (*c.eta)(i, 0), e1 = (*c.eta)(i, 1), e2 = (*c.eta)(i, 2);
+    V sc{}, sy0{}, sy1{}, sy2{};
+    for (Eigen::Index j = 0; j < np; j += W) {
+      const V q0 = simd::load<W>(y0 + j), q1 = simd::load<W>(y1 + j), q2 = simd::load<W>(y2 + j);
+      const V d0 = p0 - q0, d1 = p1 - q1, d2 = p2 - q2;
+      const V k = simd::gauss<W>(d0 * d0 + d1 * d1 + d2 * d2, c.s);
+      const V cc = k * (e0 * simd::load<W>(w0 + j) + e1 * simd::load<W>(w1 + j) +
+                        e2 * simd::load<W>(w2 + j));
+      sc += cc;
+      sy0 += cc * q0;
+      sy1 += cc * q1;
+      sy2 += cc * q2;
+      if (scatter) {
+        const V tc = twoS * cc;
+        double* g = scatter + j;
+        simd::store<W>(g, simd::load<W>(g) + tc * d0);
+        simd::store<W>(g + np, simd::load<W>(g + np) + tc * d1);
+        simd::store<W>(g + 2 * np, simd::load<W>(g + 2 * np) + tc * d2);
+        simd::store<W>(g + 3 * np, simd::load<W>(g + 3 * np) + k * e0);
+        simd::store<W>(g + 4 * np, simd::load<W>(g + 4 * np) + k * e1);
+        simd::store<W>(g + 5 * np, simd::load<W>(g + 5 * np) + k * e2);
+      }
+    }
+    const double sumC = simd::hsum<W>(sc);
+    (*c.gx)(i, 0) = -twoS * (p0 * sumC - simd::hsum<W>(sy0));
+    (*c.gx)(i, 1) = -twoS * (p1 * sumC - simd::hsum<W>(sy1));
+    (*c.gx)(i, 2) = -twoS * (p2 * sumC - simd::hsum<W>(sy2));
+  }
+}
+BCASSIM_SIMD_DISPATCH(vjpBlock, vjpBody, (const VjpCtx& c, Eigen::Index b, double* scatter),
+                      (c, b, scatter))
+
 }  // namespace
 
 GaussianKernel::GaussianKernel(double sigma) : sigma_(sigma), invSigma2_(1.0 / (sigma * sigma)) {
@@ -72,21 +176,10 @@ double GaussianKernel::operator()(const Eigen::Vector3d& x, const Eigen::Vector3
 Eigen::MatrixX3d GaussianKernel::convolve(const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& y,
                                           const Eigen::MatrixX3d& w) const {
   Eigen::MatrixX3d v(x.rows(), 3);
-  const Columns yc(y), wc(w);
-  const double s = invSigma2_;
-  const Eigen::Index ny = y.rows();
-  forEachRow(x.rows(), [&](Eigen::Index i) {
-    const double p[3] = {x(i, 0), x(i, 1), x(i, 2)};
-    double acc[3] = {0.0, 0.0, 0.0};
-    Tile k;
-    for (Eigen::Index j0 = 0; j0 < ny; j0 += kTileJ) {
-      const Eigen::Index nj = std::min(kTileJ, ny - j0);
-      kernelTile(p, yc, j0, nj, s, k);
-      const auto kk = view(k, nj);
-      for (int d = 0; d < 3; ++d) acc[d] += (kk * wc.tile(d, j0, nj)).sum();
-    }
-    for (int d = 0; d < 3; ++d) v(i, d) = acc[d];
-  });
+  const Padded3 yp(y, kFar), wp(w, 0.0);
+  const ConvolveCtx ctx{&x, &yp, &wp, invSigma2_, &v};
+  tbb::parallel_for(Eigen::Index(0), (x.rows() + kBlockI - 1) / kBlockI,
+                    [&](Eigen::Index b) { convolveBlock(ctx, b); });
   return v;
 }
 
@@ -96,51 +189,26 @@ void GaussianKernel::convolveVjp(const Eigen::MatrixX3d& x, const Eigen::MatrixX
                                  Eigen::MatrixX3d* gw) const {
   // With c_ij = K_ij (eta_i . w_j): dL/dx_i = -2s sum_j c_ij (x_i - y_j),
   // dL/dy_j = +2s sum_i c_ij (x_i - y_j), dL/dw_j = sum_i K_ij eta_i. The last two are scattered
-  // into per-thread column accumulators (element-wise, so they vectorise), summed at the end.
-  const Columns yc(y), wc(w);
-  const double s = invSigma2_;
-  const Eigen::Index ny = y.rows();
+  // into per-thread padded column accumulators, summed at the end.
+  const Padded3 yp(y, kFar), wp(w, 0.0);
+  const Eigen::Index np = yp.padded, ny = y.rows();
   const bool scatter = gy != nullptr || gw != nullptr;
-  tbb::enumerable_thread_specific<Eigen::MatrixXd> local(
-      Eigen::MatrixXd::Zero(scatter ? ny : 0, 6));  // columns: dL/dy (3), dL/dw (3)
-  Eigen::MatrixX3d gxLocal = Eigen::MatrixX3d::Zero(x.rows(), 3);
-  forEachRow(x.rows(), [&](Eigen::Index i) {
-    const double p[3] = {x(i, 0), x(i, 1), x(i, 2)};
-    const double e[3] = {eta(i, 0), eta(i, 1), eta(i, 2)};
-    Eigen::MatrixXd* acc = scatter ? &local.local() : nullptr;
-    double sumC = 0.0, sumCy[3] = {0.0, 0.0, 0.0};
-    Tile k, c;
-    for (Eigen::Index j0 = 0; j0 < ny; j0 += kTileJ) {
-      const Eigen::Index nj = std::min(kTileJ, ny - j0);
-      kernelTile(p, yc, j0, nj, s, k);
-      const double* w0 = wc.c[0] + j0;
-      const double* w1 = wc.c[1] + j0;
-      const double* w2 = wc.c[2] + j0;
-      for (Eigen::Index j = 0; j < nj; ++j)
-        c[j] = k[j] * (e[0] * w0[j] + e[1] * w1[j] + e[2] * w2[j]);
-      const auto cc = view(c, nj);
-      sumC += cc.sum();
-      for (int d = 0; d < 3; ++d) sumCy[d] += (cc * yc.tile(d, j0, nj)).sum();
-      if (acc) {
-        for (int d = 0; d < 3; ++d) {
-          double* gyd = acc->col(d).data() + j0;
-          double* gwd = acc->col(3 + d).data() + j0;
-          const double* yd = yc.c[d] + j0;
-          const double pd = p[d], ed = e[d], twoS = 2.0 * s;
-          for (Eigen::Index j = 0; j < nj; ++j) {
-            gyd[j] += twoS * c[j] * (pd - yd[j]);
-            gwd[j] += k[j] * ed;
-          }
-        }
-      }
-    }
-    for (int d = 0; d < 3; ++d) gxLocal(i, d) = -2.0 * s * (p[d] * sumC - sumCy[d]);
+  tbb::enumerable_thread_specific<std::vector<double>> local(
+      std::vector<double>(scatter ? static_cast<size_t>(6 * np) : 0, 0.0));
+  Eigen::MatrixX3d gxLocal(x.rows(), 3);
+  const VjpCtx ctx{&x, &eta, &yp, &wp, invSigma2_, &gxLocal};
+  tbb::parallel_for(Eigen::Index(0), (x.rows() + kBlockI - 1) / kBlockI, [&](Eigen::Index b) {
+    vjpBlock(ctx, b, scatter ? local.local().data() : nullptr);
   });
   if (gx) *gx += gxLocal;
   if (scatter) {
-    for (const Eigen::MatrixXd& m : local) {
-      if (gy) *gy += m.leftCols(3);
-      if (gw) *gw += m.rightCols(3);
+    for (const std::vector<double>& m : local) {
+      for (int d = 0; d < 3; ++d) {
+        for (Eigen::Index j = 0; j < ny; ++j) {
+          if (gy) (*gy)(j, d) += m[d * np + j];
+          if (gw) (*gw)(j, d) += m[(3 + d) * np + j];
+        }
+      }
     }
   }
 }
