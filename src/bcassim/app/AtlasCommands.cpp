@@ -13,6 +13,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/app/PlotScripts.h"
+#include "bcassim/atlas/AtlasLeaveOneOut.h"
 #include "bcassim/atlas/AtlasTransfer.h"
 #include "bcassim/atlas/CurveComparison.h"
 #include "bcassim/atlas/FaceKernelDistance.h"
@@ -256,6 +257,81 @@ void runTransfer(const TransferArgs& t) {
   done();
 }
 
+struct LooArgs {
+  std::string dir, out = "out/atlas-loo", templ;
+  int label = 2, heldOut = 10, maxLivers = 0;
+  double scale = 1e-3, planeStep = 5.0;
+  RegistrationFlags reg;
+};
+
+void runLoo(LooArgs a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  LiverFolder livers = readAnnotatedLivers(a.dir, a.label, a.scale);
+  for (const std::string& s : livers.skipped) fmt::print("skipped {}\n", s);
+  if (a.maxLivers > 0 && static_cast<int>(livers.subjects.size()) > a.maxLivers)
+    livers.subjects.resize(static_cast<size_t>(a.maxLivers));
+  const auto n = static_cast<int>(livers.subjects.size());
+  if (n < 3) {
+    throw InputError(fmt::format("{}: expected at least 3 usable NAME.obj + NAME.eseg livers, found {}",
+                                 a.dir, n));
+  }
+  LeaveOneOutOptions o;
+  o.atlas.registration = a.reg.options();
+  o.atlas.planeStepDegrees = a.planeStep;
+  if (!a.templ.empty()) {
+    o.templateSubject = -1;
+    for (int i = 0; i < n; ++i)
+      if (livers.subjects[i].name == a.templ) o.templateSubject = i;
+    if (o.templateSubject < 0) {
+      throw InputError(fmt::format("--template {}: expected the name of a usable liver of {}",
+                                   a.templ, a.dir));
+    }
+  }
+  // Held out: the first `heldOut` livers other than the template (all with --held-out 0).
+  for (int i = 0; i < n && (a.heldOut <= 0 || static_cast<int>(o.heldOut.size()) < a.heldOut); ++i)
+    if (i != o.templateSubject) o.heldOut.push_back(i);
+  fmt::print("{} livers, template {}, {} held out in turn\n", n,
+             livers.subjects[o.templateSubject].name, o.heldOut.size());
+  const LeaveOneOutResult r = leaveOneOut(livers.subjects, o, [](const std::string& s) {
+    fmt::print("{}\n", s);
+    std::fflush(stdout);
+  });
+  const fs::path out(a.out);
+  fs::create_directories(out);
+  std::ofstream f(out / "loo.csv");
+  f << "liver,planes,mean_mm,max_mm,point_mean_mm,point_max_mm,rigid_only_mean_mm,"
+       "rigid_only_max_mm,atlas_points,alignment_rms_mm,data_left\n";
+  double sumMean = 0, sumMax = 0, worst = 0, sumRigid = 0, sumPoint = 0;
+  int counted = 0;
+  for (const LeaveOneOutFold& fold : r.folds) {
+    const CurveDistance& d = fold.distance;
+    f << livers.subjects[fold.subject].name << ',' << d.planes << ',' << 1e3 * d.planeMean << ','
+      << 1e3 * d.planeMax << ',' << 1e3 * d.pointMean << ',' << 1e3 * d.pointMax << ','
+      << 1e3 * fold.rigidOnly.planeMean << ',' << 1e3 * fold.rigidOnly.planeMax << ','
+      << fold.atlasPoints << ',' << 1e3 * r.alignmentRms[fold.subject] << ','
+      << r.dataRatio[fold.subject] << '\n';
+    if (d.planes == 0) continue;
+    ++counted;
+    sumMean += d.planeMean;
+    sumMax += d.planeMax;
+    sumRigid += fold.rigidOnly.planeMean;
+    sumPoint += d.pointMean;
+    worst = std::max(worst, d.planeMax);
+  }
+  double regSeconds = 0;
+  for (double s : r.registrationSeconds) regSeconds += s;
+  if (counted > 0) {
+    fmt::print("leave-one-out over {} livers (falciform, radial planes every {} deg): mean {:.1f} mm, "
+               "mean of max {:.1f} mm, largest {:.1f} mm; expert points to curve {:.1f} mm; "
+               "rigid only {:.1f} mm\n",
+               counted, a.planeStep, 1e3 * sumMean / counted, 1e3 * sumMax / counted, 1e3 * worst,
+               1e3 * sumPoint / counted, 1e3 * sumRigid / counted);
+  }
+  fmt::print("registrations {:.0f} s ({:.1f} s each), total {:.0f} s; wrote {}\n", regSeconds,
+             regSeconds / n, secondsSince(t0), (out / "loo.csv").string());
+  done();
+}
+
 }  // namespace
 
 LiverFolder readAnnotatedLivers(const std::string& dir, int label, double scale) {
@@ -349,6 +425,25 @@ void addAtlasCommands(CLI::App& app) {
   tr->add_option("--scale", t->scale, scaleHelp)->capture_default_str();
   t->reg.add(tr);
   tr->callback([t] { runTransfer(*t); });
+
+  auto l = std::make_shared<LooArgs>();
+  CLI::App* loo = atlas->add_subcommand(
+      "loo", "Leave-one-out validation on annotated livers (thesis §5.2, Table 5.1)");
+  loo->add_option("LIVER_DIR", l->dir, "Folder of NAME.obj surfaces with NAME.eseg edge labels")
+      ->required();
+  loo->add_option("-o,--out", l->out, "Output folder (loo.csv)")->capture_default_str();
+  loo->add_option("--template", l->templ, "Liver used as template (default: the first usable)");
+  loo->add_option("--held-out", l->heldOut, "Livers held out in turn (0: all but the template)")
+      ->capture_default_str();
+  loo->add_option("--max-livers", l->maxLivers, "Use the first N usable livers (0: all)");
+  loo->add_option("--label", l->label, ".eseg label of the curve (2: falciform)")
+      ->capture_default_str();
+  loo->add_option("--plane-step", l->planeStep, "Angle between radial cutting planes (degrees)")
+      ->capture_default_str();
+  loo->add_option("--scale", l->scale, scaleHelp)->capture_default_str();
+  l->reg.iterations = 40;
+  l->reg.add(loo);
+  loo->callback([l] { runLoo(*l); });
 }
 
 }  // namespace bcassim

@@ -24,6 +24,34 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
+CurveAtlas ligamentCurveAtlas(const TriMesh& templ, const std::vector<Eigen::MatrixX3d>& carried,
+                              const LigamentAtlasOptions& o) {
+  if (carried.empty()) throw InputError("ligament atlas: no curves");
+  // Radial planes around the transverse axis through the template centre; angle 0 points to the
+  // mean of all carried curve points.
+  const Eigen::Vector3d centre = boxCentre(templ.V).transpose();
+  if (!(o.transverse.norm() > 0.0)) throw InputError("ligament atlas: zero transverse direction");
+  const Eigen::Vector3d axis = o.transverse.normalized();
+  Eigen::Vector3d towards = Eigen::Vector3d::Zero();
+  Eigen::Index count = 0;
+  for (const auto& c : carried) {
+    towards += (c.rowwise() - centre.transpose()).colwise().sum().transpose();
+    count += c.rows();
+  }
+  towards /= static_cast<double>(std::max<Eigen::Index>(count, 1));
+  towards -= towards.dot(axis) * axis;
+  if (towards.norm() < 1e-9) towards = axis.unitOrthogonal();
+  if (!(o.planeStepDegrees > 0.0)) throw InputError("ligament atlas: plane step must be positive");
+  const double step = o.planeStepDegrees * std::numbers::pi / 180.0;
+  const int half = static_cast<int>(std::floor(0.5 * std::numbers::pi / step + 1e-9));
+  const CuttingPlaneFamily planes =
+      radialPlanes(centre, axis, towards, evenAngles(-half * step, half * step, 2 * half + 1));
+  const auto n = static_cast<double>(carried.size());
+  const int minCount = std::max(std::min(2, static_cast<int>(carried.size())),
+                                static_cast<int>(std::ceil(o.minCrossingFraction * n)));
+  return buildCurveAtlas(templ, carried, planes, minCount);
+}
+
 LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
                                  const LigamentAtlasOptions& o, const AtlasLog& log) {
   auto say = [&](const std::string& s) {
@@ -104,28 +132,12 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
     atlas.carriedCurves.push_back(SurfaceAttachment(phi, curves[i]).positions(atlas.templ.V));
   }
 
-  // 4. Radial planes around the transverse axis through the template centre; angle 0 points to
-  //    the mean of all carried curve points.
-  const Eigen::Vector3d centre = boxCentre(atlas.templ.V).transpose();
-  const Eigen::Vector3d axis = o.transverse.normalized();
-  Eigen::Vector3d towards = Eigen::Vector3d::Zero();
-  Eigen::Index count = 0;
-  for (const auto& c : atlas.carriedCurves) {
-    towards += (c.rowwise() - centre.transpose()).colwise().sum().transpose();
-    count += c.rows();
-  }
-  towards /= static_cast<double>(count);
-  towards -= towards.dot(axis) * axis;
-  if (towards.norm() < 1e-9) towards = axis.unitOrthogonal();
-  const double step = o.planeStepDegrees * std::numbers::pi / 180.0;
-  const int half = static_cast<int>(std::floor(0.5 * std::numbers::pi / step + 1e-9));
-  const CuttingPlaneFamily planes =
-      radialPlanes(centre, axis, towards, evenAngles(-half * step, half * step, 2 * half + 1));
+  // 4. Statistics over radial planes.
+  atlas.curve = ligamentCurveAtlas(atlas.templ, atlas.carriedCurves, o);
   const int minCount =
       std::max(2, static_cast<int>(std::ceil(o.minCrossingFraction * static_cast<double>(n))));
-  atlas.curve = buildCurveAtlas(atlas.templ, atlas.carriedCurves, planes, minCount);
-  say(fmt::format("curve statistics: {} of {} planes crossed by >= {} curves", atlas.curve.mean.size(),
-                  planes.planes.size(), minCount));
+  say(fmt::format("curve statistics: {} of {} planes crossed by >= {} curves",
+                  atlas.curve.mean.size(), atlas.curve.planes.planes.size(), minCount));
   return atlas;
 }
 

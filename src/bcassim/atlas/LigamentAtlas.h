@@ -47,6 +47,11 @@ struct LigamentAtlas {
 
 using AtlasLog = std::function<void(const std::string&)>;
 
+// The statistics stage alone: curves already carried onto the template (m, template frame), cut
+// by the radial planes of the options around the template's bounding-box centre.
+CurveAtlas ligamentCurveAtlas(const TriMesh& templ, const std::vector<Eigen::MatrixX3d>& carried,
+                              const LigamentAtlasOptions& options = {});
+
 // Throws InputError on fewer than 2 subjects, a subject without faces or curve points, or a bad
 // template index.
 LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
