@@ -9,6 +9,7 @@
 
 #include "atlas/AtlasTestMeshes.h"
 #include "bcassim/Error.h"
+#include "bcassim/atlas/AtlasLeaveOneOut.h"
 #include "bcassim/atlas/AtlasTransfer.h"
 #include "bcassim/atlas/CurveComparison.h"
 #include "bcassim/atlas/LigamentAtlas.h"
@@ -19,12 +20,15 @@ namespace {
 
 const Eigen::Vector3d kAxes(0.08, 0.05, 0.04);
 
-// Ellipsoid with a bump towards +x (so that no rotation maps it onto itself).
+// Ellipsoid with bumps towards +x and -z (so that no rotation maps it onto itself; the curves
+// below stay off the bumps).
 TriMesh organ() {
   TriMesh m = test::makeIcosphere(1.0, 3);
   m.V = m.V * kAxes.asDiagonal();
-  for (Eigen::Index i = 0; i < m.V.rows(); ++i)
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
     if (m.V(i, 0) > 0.06) m.V(i, 0) += 0.5 * (m.V(i, 0) - 0.06);
+    if (m.V(i, 2) < -0.036) m.V(i, 2) += 2.0 * (m.V(i, 2) + 0.036);
+  }
   return m;
 }
 
@@ -167,6 +171,36 @@ TEST(CurveComparison, ParallelCurvesAtKnownDistance) {
   seg << 0, 0, 0, 1, 0, 0;
   EXPECT_DOUBLE_EQ(distanceToPolyline({2, 1, 0}, seg), std::sqrt(2.0));
   EXPECT_DOUBLE_EQ(distanceToPolyline({0.5, 0, 3}, seg), 3.0);
+}
+
+}  // namespace
+}  // namespace bcassim
+
+namespace bcassim {
+namespace {
+
+TEST(AtlasLeaveOneOut, HeldOutErrorIsTheOffsetFromTheOthersMean) {
+  // Four copies of the organ, rigidly moved, with curves at x = 0 (template), -d, +d and 0.
+  // Holding out the fourth leaves curves at 0, -d, d: mean at 0, error ~ 0. Holding out the
+  // second (at -d) leaves 0, d, 0: mean at d/3, error 4d/3.
+  const double d = 0.009;
+  std::vector<AtlasSubject> s = subjects(d);
+  AtlasSubject fourth = s[0];
+  fourth.name = "s3";
+  const RigidTransform m = motion(0.3, {0, 1, 0}, {0.02, 0.0, 0.0});
+  fourth.surface.V = m.apply(fourth.surface.V);
+  fourth.curve = m.apply(fourth.curve);
+  s.push_back(fourth);
+  LeaveOneOutOptions o;
+  o.atlas = quickOptions();
+  o.atlas.minCrossingFraction = 0.9;  // planes crossed by all three remaining curves
+  o.heldOut = {3, 1};
+  const LeaveOneOutResult r = leaveOneOut(s, o);
+  ASSERT_EQ(r.folds.size(), 2u);
+  EXPECT_GE(r.folds[0].distance.planes, 5);
+  EXPECT_LT(r.folds[0].distance.planeMean, 1e-3);
+  EXPECT_NEAR(r.folds[1].distance.planeMean, 4.0 * d / 3.0, 1.5e-3);
+  EXPECT_THROW(leaveOneOut({s[0], s[1]}, o), InputError);
 }
 
 }  // namespace
