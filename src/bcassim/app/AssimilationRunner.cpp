@@ -15,6 +15,7 @@
 #include "bcassim/app/AssimilationEstimates.h"
 #include "bcassim/app/MechanicalForecastModel.h"
 #include "bcassim/app/ParameterForwardRun.h"
+#include "bcassim/app/PointUncertainty.h"
 #include "bcassim/app/ValidationErrors.h"
 #include "bcassim/assimilation/EtkfFilter.h"
 #include "bcassim/assimilation/RoukfFilter.h"
@@ -161,6 +162,37 @@ class ValidationLog {
   ErrorSummary estimated_[2], initial_[2];
 };
 
+// Every step, the predicted position of each hidden point (tumour) and its uncertainty from the
+// filter's covariance, written as hidden_points.csv.
+class HiddenPointLog {
+ public:
+  HiddenPointLog(const Scene& scene, const std::filesystem::path& dir)
+      : scene_(scene), path_(dir / "hidden_points.csv"), out_(openForWriting(path_)) {
+    out_ << "step,time_s,point,x_m,y_m,z_m,sigma_x_m,sigma_y_m,sigma_z_m,radius95_m\n";
+  }
+
+  void add(int step, double time, const MechanicalForecastModel& mean, const Filter& filter) {
+    const Eigen::MatrixX3d p = mean.positionsOf(scene_.hidden.points);
+    const std::vector<PointUncertainty> u =
+        pointUncertainty(*scene_.model.mesh, scene_.hidden.points, filter.covarianceFactor());
+    for (size_t i = 0; i < u.size(); ++i) {
+      const auto r = static_cast<Eigen::Index>(i);
+      out_ << fmt::format("{},{:.9g},{},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g}\n", step,
+                          time, i, p(r, 0), p(r, 1), p(r, 2), u[i].sigma(0), u[i].sigma(1),
+                          u[i].sigma(2), u[i].radius95);
+    }
+    flushOrThrow(out_, path_);
+    last_ = u;
+  }
+  const std::vector<PointUncertainty>& last() const { return last_; }
+
+ private:
+  const Scene& scene_;
+  std::filesystem::path path_;
+  std::ofstream out_;
+  std::vector<PointUncertainty> last_;
+};
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -290,6 +322,16 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
     initialRun = std::make_unique<ParameterForwardRun>(scene, s.parameters, initialValues(s));
   }
 
+  std::unique_ptr<HiddenPointLog> hidden;
+  if (!scene.hidden.points.empty()) {
+    if (!s.carryPositions)
+      throw InputError(scene.sourceFile +
+                       ": hidden_points: needs assimilation.state.positions: true (their "
+                       "uncertainty comes from the covariance of the node positions)");
+    hidden = std::make_unique<HiddenPointLog>(scene, dir);
+    hidden->add(0, 0.0, *models[0], *filter);
+  }
+
   std::mt19937_64 rng(s.seed);
   std::vector<double> stepMs;
   const Eigen::Index P = layout.parameterCount();
@@ -315,6 +357,7 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
         validation->add(step, time, models[0]->positionsOf(scene.validation.points),
                         initialRun->positionsOf(scene.validation.points));
     }
+    if (hidden) hidden->add(step, time, *models[0], *filter);
     const double validationSeconds = secondsSince(v0);
     timing << fmt::format("{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g}\n", step, time,
                           1e3 * report.seconds.forecast, 1e3 * report.seconds.correction,

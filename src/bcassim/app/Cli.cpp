@@ -16,6 +16,7 @@
 #include "bcassim/app/AssimilationProgressBar.h"
 #include "bcassim/app/AssimilationRunner.h"
 #include "bcassim/app/AtlasCommands.h"
+#include "bcassim/app/LiverCommand.h"
 #include "bcassim/app/PlotScripts.h"
 #include "bcassim/app/ProgressBar.h"
 #include "bcassim/app/SceneLoader.h"
@@ -217,6 +218,8 @@ int run(int argc, char** argv) {
   info->add_option("--region-field", regionField, "Integer cell array holding the region ids");
   addAtlasCommands(app);
 
+  const LiverCommand liver(app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -228,6 +231,7 @@ int run(int argc, char** argv) {
   if (info->parsed()) return meshInfo(meshPath, regionField);
   if (assim->parsed()) return assimilate(scenePath, "", outDir, quiet, !noPlots);
   if (val->parsed()) return assimilate(scenePath, estimatesPath, outDir, quiet, !noPlots);
+  if (liver.parsed()) return liver.run();
   return kExitInput;
 }
 

@@ -51,6 +51,9 @@ struct Scene {
   // Points whose error against the truth validates an estimate (validation_points:); written as
   // validation.csv by simulate runs.
   MarkerSet validation;
+  // Hidden structures (tumours, vessels) never observed: simulate writes their tracks as
+  // hidden.csv; assimilate predicts them with their uncertainty every step (hidden_points.csv).
+  MarkerSet hidden;
   OutputSettings output;
   // The scene's assimilation: section, read by every command; only assimilate and validate use it.
   std::optional<AssimilationSettings> assimilation;

@@ -17,6 +17,7 @@
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/MeshReader.h"
 #include "bcassim/io/PointReader.h"
+#include "bcassim/ligaments/LigamentSprings.h"
 #include "bcassim/mesh/BoundarySurface.h"
 #include "bcassim/mesh/MeshGenerators.h"
 
@@ -174,6 +175,7 @@ TimeProfile readProfile(const YamlSource& src, const YAML::Node& node, const std
       {"sine", TimeProfile::Kind::Sine},
       {"square", TimeProfile::Kind::Square},
       {"pulse", TimeProfile::Kind::Pulse},
+      {"half_sine", TimeProfile::Kind::HalfSine},
       {"ramp", TimeProfile::Kind::Ramp}};
   std::vector<std::string> names;
   for (const auto& k : kinds) names.push_back(k.first);
@@ -240,8 +242,33 @@ std::vector<NodalLoad> readLoads(const YamlSource& src, const MapReader& top, co
   return loads;
 }
 
+// springs.ligament: an attachment curve extruded into springs (thesis §5.1), one group per
+// contiguous stretch of the curve, as many stretches as springs.groups has entries.
+std::vector<CubicSpring> readLigament(const YamlSource& src, const MapReader& s,
+                                      const TetMesh& mesh,
+                                      const std::vector<CubicSpringCoefficients>& groups) {
+  MapReader r(src, s.node("ligament"), "springs.ligament",
+              {"curve", "length", "spacing", "layers", "layer_offset", "smooth_normals"});
+  const std::string curvePath = r.existingFile("curve");
+  Eigen::MatrixX3d curve;
+  app::withContext(src, r.node("curve"), r.pathOf("curve"), [&] { curve = readPoints(curvePath); });
+  LigamentOptions o;
+  o.length = r.number("length", kDefaultSpringLength, "m", Range::Positive);
+  o.spacing = r.number("spacing", 0.0, "m", Range::NonNegative);
+  o.layers = r.integer("layers", 2);
+  if (o.layers != 1 && o.layers != 2) r.fail("layers", "expected 1 or 2");
+  o.layerOffset = r.number("layer_offset", o.layerOffset, "m", Range::NonNegative);
+  o.smoothNormals = r.boolean("smooth_normals", true);
+  o.numGroups = static_cast<int>(groups.size());
+  o.coefficients = groups.front();
+  LigamentSprings built;
+  app::withContext(src, r.node("curve"), r.pathOf("curve"),
+                   [&] { built = buildLigamentSprings(mesh, curve, o); });
+  return built.springs.springs();
+}
+
 CubicSpringSet readSprings(const YamlSource& src, const MapReader& top, const TetMesh& mesh) {
-  MapReader s(src, top.node("springs"), "springs", {"groups", "attachments"});
+  MapReader s(src, top.node("springs"), "springs", {"groups", "attachments", "ligament"});
   std::vector<CubicSpringCoefficients> groups;
   std::vector<double> cutTimes;
   const auto groupNodes = listElements(src, s.node("groups"), "springs.groups");
@@ -268,7 +295,12 @@ CubicSpringSet readSprings(const YamlSource& src, const MapReader& top, const Te
     groups.push_back(kDefaultSpringCoefficients);
     cutTimes.push_back(std::numeric_limits<double>::infinity());
   }
+  if (groups.empty() && s.has("ligament")) {
+    groups.push_back(kDefaultSpringCoefficients);
+    cutTimes.push_back(std::numeric_limits<double>::infinity());
+  }
   std::vector<CubicSpring> springs;
+  if (s.has("ligament")) springs = readLigament(src, s, mesh, groups);
   if (!attachments.empty()) {
     const BoundarySurface boundary = extractBoundary(mesh);
     const std::vector<int> tetOf = tetOfEachNode(mesh);
@@ -372,10 +404,10 @@ MarkerSet readMarkers(const YamlSource& src, const MapReader& top, const TetMesh
   return all;
 }
 
-// Validation points: every node (nodes: all), or one entry of the markers' kinds.
-MarkerSet readValidationPoints(const YamlSource& src, const MapReader& top, const TetMesh& mesh) {
-  if (!top.has("validation_points")) return {};
-  const std::string path = "validation_points";
+// Validation or hidden points: every node (nodes: all), or one entry of the markers' kinds.
+MarkerSet readValidationPoints(const YamlSource& src, const MapReader& top, const TetMesh& mesh,
+                               const std::string& path = "validation_points") {
+  if (!top.has(path)) return {};
   MapReader r(src, top.node(path), path, {"nodes", "region", "count", "points", "file"});
   const int given = (r.has("nodes") ? 1 : 0) + (r.has("region") ? 1 : 0) +
                     (r.has("points") ? 1 : 0) + (r.has("file") ? 1 : 0);
@@ -455,7 +487,7 @@ const std::vector<std::string> kSceneKeys = {
     "mesh",        "material",       "materials",  "density", "mass",     "gravity",
     "damping",     "time",           "integrator", "solver",  "fixed",    "loads",
     "springs",     "control_points", "markers",    "output",  "variants", "validation_points",
-    "assimilation"};
+    "hidden_points", "assimilation"};
 
 Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVariants) {
   if (!root.IsDefined() || root.IsNull())
@@ -514,6 +546,7 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   model.controls = readControls(src, top, *mesh);
   scene.markers = readMarkers(src, top, *mesh);
   scene.validation = readValidationPoints(src, top, *mesh);
+  scene.hidden = readValidationPoints(src, top, *mesh, "hidden_points");
 
   MapReader output(src, top.node("output"), "output", {"every", "pvd"});
   scene.output.every = output.integer("every", 10, Range::AtLeastOne);

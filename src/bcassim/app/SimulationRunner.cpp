@@ -124,6 +124,12 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
         (std::filesystem::path(dir) / "validation.csv").string());
     validation->write(state.t, pointPositions(scene, scene.validation, state.x));
   }
+  std::unique_ptr<MarkerTrackWriter> hidden;
+  if (!scene.hidden.points.empty()) {
+    hidden =
+        std::make_unique<MarkerTrackWriter>((std::filesystem::path(dir) / "hidden.csv").string());
+    hidden->write(state.t, pointPositions(scene, scene.hidden, state.x));
+  }
   std::ofstream timing = openForWriting((std::filesystem::path(dir) / "timing.csv").string());
   timing << (statics ? "step,time_s,total_ms,newton_iterations\n"
                      : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations\n");
@@ -158,6 +164,7 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
     const Eigen::MatrixX3d markers = markerPositions(scene, state.x);
     tracks.write(state.t, markers);
     if (validation) validation->write(state.t, pointPositions(scene, scene.validation, state.x));
+    if (hidden) hidden->write(state.t, pointPositions(scene, scene.hidden, state.x));
     const Eigen::MatrixX3d u = markers - scene.markers.rest;
     if (u.rows() > 0)
       trace.result.maxMarkerDisplacement =

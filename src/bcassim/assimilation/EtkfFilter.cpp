@@ -4,6 +4,7 @@
 
 #include <Eigen/SVD>
 #include <chrono>
+#include <cmath>
 
 #include "bcassim/Error.h"
 #include "bcassim/assimilation/ObservedSubset.h"
@@ -41,8 +42,13 @@ EtkfFilter::EtkfFilter(StochasticState layout, std::vector<ForecastModel*> model
 }
 
 Eigen::MatrixXd EtkfFilter::covariance() const {
+  const Eigen::MatrixXd S = covarianceFactor();
+  return S * S.transpose();
+}
+
+Eigen::MatrixXd EtkfFilter::covarianceFactor() const {
   const Eigen::MatrixXd D = members_.colwise() - members_.rowwise().mean();
-  return D * D.transpose() / static_cast<double>(members_.cols() - 1);
+  return D / std::sqrt(static_cast<double>(members_.cols() - 1));
 }
 
 void EtkfFilter::reset(Eigen::MatrixXd members) {

@@ -17,6 +17,9 @@ class Filter {
   // space, and its covariance (formed on demand by the reduced and ensemble filters).
   virtual const Eigen::VectorXd& mean() const = 0;
   virtual Eigen::MatrixXd covariance() const = 0;
+  // A factor S (n x r) with covariance() = S S^T, of the filter's own rank: the uncertainty of any
+  // linear function H x is then (H S)(H S)^T, cheap even when n x n would not fit in memory.
+  virtual Eigen::MatrixXd covarianceFactor() const = 0;
 };
 
 }  // namespace bcassim

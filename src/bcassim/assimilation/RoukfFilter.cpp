@@ -43,9 +43,13 @@ RoukfFilter::RoukfFilter(StochasticState layout, std::vector<ForecastModel*> mod
 }
 
 Eigen::MatrixXd RoukfFilter::covariance() const {
-  RepairLog ignored;
-  const Eigen::MatrixXd S = sqrtFactor(L_, U_, ignored);
+  const Eigen::MatrixXd S = covarianceFactor();
   return S * S.transpose();
+}
+
+Eigen::MatrixXd RoukfFilter::covarianceFactor() const {
+  RepairLog ignored;
+  return sqrtFactor(L_, U_, ignored);
 }
 
 void RoukfFilter::reset(Eigen::VectorXd mean, Eigen::MatrixXd L, Eigen::MatrixXd U) {

@@ -40,6 +40,11 @@ void UkfFilter::reset(Eigen::VectorXd mean, Eigen::MatrixXd covariance) {
   P_ = std::move(covariance);
 }
 
+Eigen::MatrixXd UkfFilter::covarianceFactor() const {
+  RepairLog ignored;
+  return choleskyWithRepair(P_, ignored);
+}
+
 FilterStepReport UkfFilter::step(const Observation& y) {
   const auto start = Clock::now();
   const ObservedSubset obs(y, ensemble_.observationSize());

@@ -28,6 +28,7 @@ class UkfFilter final : public Filter {
   FilterStepReport step(const Observation& y) override;
   const Eigen::VectorXd& mean() const override { return x_; }
   Eigen::MatrixXd covariance() const override { return P_; }
+  Eigen::MatrixXd covarianceFactor() const override;  // Cholesky factor of P, n x n
 
   // Replaces the estimate (restoring a checkpoint, or a prior with correlations). A covariance that
   // is not positive definite is repaired at the next step and reported there.

@@ -1,13 +1,15 @@
 // Scalar functions of time that modulate loads and prescribed displacements: constant, sine,
-// square (+1/-1 alternating) and pulse (1 then 0), with a period and a phase in seconds.
+// square (+1/-1 alternating), pulse (1 then 0), half sine (a push one way only, as on a liver lobe
+// held up by the diaphragm) and ramp, with a period and a phase in seconds.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 namespace bcassim {
 
 struct TimeProfile {
-  enum class Kind { Constant, Sine, Square, Pulse, Ramp };
+  enum class Kind { Constant, Sine, Square, Pulse, Ramp, HalfSine };
   Kind kind = Kind::Constant;
   double period = 1.0;  // s (Ramp: time to reach 1)
   double phase = 0.0;   // s, shifts the profile: value(t) = shape(t + phase)
@@ -23,6 +25,8 @@ struct TimeProfile {
         return fraction(s) < 0.5 ? 1.0 : -1.0;
       case Kind::Pulse:
         return fraction(s) < 0.5 ? 1.0 : 0.0;
+      case Kind::HalfSine:
+        return std::max(0.0, std::sin(2.0 * std::numbers::pi * s / period));
       case Kind::Ramp:
         return s <= 0 ? 0.0 : (s >= period ? 1.0 : s / period);
     }
