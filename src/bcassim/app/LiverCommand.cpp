@@ -35,7 +35,7 @@ void printScenario(const LiverScenario& s) {
 
 std::string resolveLiverSurface(const std::string& nameOrPath) {
   namespace fs = std::filesystem;
-  if (fs::exists(nameOrPath)) return nameOrPath;
+  if (nameOrPath == kLiverPhantomName || fs::exists(nameOrPath)) return nameOrPath;
   if (nameOrPath.find('/') == std::string::npos && fs::path(nameOrPath).extension().empty()) {
     const char* env = std::getenv("BCASSIM_DATA");
     const fs::path data = env && *env ? fs::path(env) : fs::path("../shared/data");
@@ -57,8 +57,8 @@ LiverCommand::LiverCommand(CLI::App& app) {
   LiverScenarioOptions& o = options_;
   for (CLI::App* c : {prepare_, run_}) {
     c->add_option("surface", surface_,
-                  "Liver surface with a .eseg beside it, or a name in $BCASSIM_DATA/livers "
-                  "(e.g. LiTS-3)")
+                  "Liver surface with a .eseg beside it, a name in $BCASSIM_DATA/livers "
+                  "(e.g. LiTS-3), or 'phantom' (built in)")
         ->required();
     c->add_option("-o,--out", outDir_, "Output directory")->capture_default_str();
     c->add_option("--scale", o.scale, "Metres per surface unit (1e-3 for mm)")->capture_default_str();

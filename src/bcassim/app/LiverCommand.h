@@ -29,7 +29,7 @@ class LiverCommand {
 };
 
 // A liver given by name (LiTS-3, 3Dircadb-18) is $BCASSIM_DATA/livers/<name>.obj, the data
-// directory defaulting to ../shared/data; a path is taken as it is.
+// directory defaulting to ../shared/data; a path, or "phantom", is taken as it is.
 std::string resolveLiverSurface(const std::string& nameOrPath);
 
 }  // namespace bcassim

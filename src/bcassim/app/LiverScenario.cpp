@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "bcassim/Error.h"
+#include "bcassim/app/LiverPhantom.h"
 #include "bcassim/app/NodePoints.h"
 #include "bcassim/app/SceneLoader.h"
 #include "bcassim/mechanics/StaticSolver.h"
@@ -184,7 +185,7 @@ std::string commonScene(const LiverScenarioOptions& o, const LiverAnatomy& a, do
   s += "    profile: {kind: half_sine, period: 4.0}    # s\n";
   s += fmt::format("  - region: {{sphere: {{center: {}, radius: {}}}}}\n", vec(a.leftLoad),
                    a.loadRadius);
-  s += fmt::format("    total_force: {}\n", vec(-leftForce * down));
+  s += fmt::format("    total_force: {}\n", vec(-leftForce * a.anterior));
   s += "    profile: {kind: sine, period: 3.0}\n";
   s += "markers: [{file: markers.csv}]                  # observed, anterior surface\n";
   s += "validation_points: {file: validation.csv}       # inner, never observed\n";
@@ -203,23 +204,34 @@ LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::str
   fs::create_directories(dir, ec);
   if (ec) throw InputError(outDir + ": cannot create directory (" + ec.message() + ")");
 
-  const TriMesh surface = readSurface(o.surface);
-  const std::string esegPath =
-      o.eseg.empty() ? fs::path(o.surface).replace_extension(".eseg").string() : o.eseg;
-  if (!fs::exists(esegPath))
-    throw InputError(esegPath + ": missing edge labels (.eseg with label 2 = falciform)");
-  const LabelledEdges edges = readEseg(esegPath, surface);
-  const std::string name = fs::path(o.surface).filename().string();
-  const Eigen::MatrixX3d curve =
-      o.scale * extractAttachmentCurve(surface, edges, 2, name).points;
+  TriMesh surface;
+  LabelledEdges edges;
+  std::string name;
+  double scale = o.scale;
+  if (o.surface == kLiverPhantomName) {
+    LiverPhantom phantom = makeLiverPhantom();
+    surface = std::move(phantom.surface);
+    edges = std::move(phantom.edges);
+    name = kLiverPhantomName;
+    scale = 1.0;  // built in metres
+  } else {
+    surface = readSurface(o.surface);
+    const std::string esegPath =
+        o.eseg.empty() ? fs::path(o.surface).replace_extension(".eseg").string() : o.eseg;
+    if (!fs::exists(esegPath))
+      throw InputError(esegPath + ": missing edge labels (.eseg with label 2 = falciform)");
+    edges = readEseg(esegPath, surface);
+    name = fs::path(o.surface).filename().string();
+  }
+  const Eigen::MatrixX3d curve = scale * extractAttachmentCurve(surface, edges, 2, name).points;
   Eigen::MatrixX3d ridge;
   bool hasRidge = std::find(edges.labels.begin(), edges.labels.end(), 3) != edges.labels.end();
-  if (hasRidge) ridge = o.scale * extractAttachmentCurve(surface, edges, 3, name).points;
+  if (hasRidge) ridge = scale * extractAttachmentCurve(surface, edges, 3, name).points;
 
   LiverScenario result;
   result.dir = outDir;
   SurfaceMeshingOptions mo;
-  mo.scale = o.scale;
+  mo.scale = scale;
   mo.targetNodes = o.coarseNodes;
   const SurfaceMeshingResult coarse = meshSurface(surface, mo, name);
   mo.targetNodes = o.fineNodes;
@@ -328,7 +340,7 @@ LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::str
                    staticDisplacement(held, a.rightLoad, a.loadRadius, -probe * a.superior, dir);
     if (leftForce <= 0)
       leftForce = probe * o.lobeDisplacement /
-                  staticDisplacement(held, a.leftLoad, a.loadRadius, probe * a.superior, dir);
+                  staticDisplacement(held, a.leftLoad, a.loadRadius, -probe * a.anterior, dir);
   }
   result.rightForce = rightForce;
   result.leftForce = leftForce;

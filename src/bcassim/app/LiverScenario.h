@@ -10,8 +10,12 @@
 
 namespace bcassim {
 
+// Stands for the built-in phantom (LiverPhantom.h) where a surface path is expected.
+inline constexpr const char* kLiverPhantomName = "phantom";
+
 struct LiverScenarioOptions {
-  std::string surface;  // closed triangle surface (.obj, ...), in `scale` units
+  // Closed triangle surface (.obj, ...), in `scale` units, or kLiverPhantomName.
+  std::string surface;
   std::string eseg;     // edge labels (.eseg); empty: the surface's path with .eseg
   double scale = 1e-3;  // m per surface unit (the CT livers are in mm)
   int coarseNodes = 2150;  // estimation mesh (thesis: 2,150)
@@ -50,7 +54,7 @@ struct LiverAnatomy {
   // Centre of the fixed vessel region: the surface point nearest the centre on the visceral side
   // (the porta hepatis notch).
   Vec3 hilum = Vec3::Zero();
-  double vesselRadius = 0.03;
+  double vesselRadius = 0.012;
   Vec3 rightLoad = Vec3::Zero(), leftLoad = Vec3::Zero();  // centres of the loaded regions
   double loadRadius = 0.03;
   bool ridgeFound = false;

@@ -3,6 +3,7 @@
 #pragma once
 #include "bcassim/Types.h"
 #include "bcassim/mesh/TetMesh.h"
+#include "bcassim/mesh/TriMesh.h"
 
 namespace bcassim {
 
@@ -23,5 +24,9 @@ TetMesh makeBoxMeshWithTargetTets(const Vec3& size, int targetTets);
 // layers are chosen so that the node count is within a few percent of targetNodes and the tets
 // are as well shaped as this construction allows. Throws InputError for non-positive arguments.
 TetMesh makeCylinderMesh(double radius, double length, int targetNodes);
+
+// Closed triangle surface of a sphere of `radius` (m) centred at the origin: the icosahedron
+// subdivided `levels` times (20 * 4^levels faces), outward counter-clockwise faces.
+TriMesh makeIcosphereSurface(double radius, int levels);
 
 }  // namespace bcassim
