@@ -104,6 +104,24 @@ TEST(CurveStatistics, RotatedArcsGiveKnownMeanAndSigma) {
   EXPECT_NEAR(s[4].mean.y(), R * (1.0 + 2.0 * std::cos(phi)) / 3.0, 1e-7);
 }
 
+TEST(CurveStatistics, MedianIgnoresAnOutlierCurve) {
+  // Three coincident arcs and one rotated far away: the geometric median of each plane's four
+  // crossings is the common crossing, the mean is pulled a quarter of the way to the outlier.
+  const double R = 0.08;
+  const Eigen::MatrixX3d a = rotatedArc(R, 0.0, 1.0, 401), out = rotatedArc(R, 0.6, 1.0, 401);
+  const std::vector<Eigen::MatrixX3d> curves = {a, a, a, out};
+  const CuttingPlaneFamily f = radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-0.5, 0.0, 0.5});
+  const auto mean = curveStatistics(curves, f);
+  const auto median = curveStatistics(curves, f, CurveCentre::Median);
+  for (size_t k = 0; k < 3; ++k) {
+    const Eigen::Vector3d common = curveStatistics({a}, f)[k].mean;
+    const Eigen::Vector3d outlier = curveStatistics({out}, f)[k].mean;
+    EXPECT_NEAR((median[k].mean - common).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((mean[k].mean - (3.0 * common + outlier) / 4.0).norm(), 0.0, 1e-12);
+    EXPECT_DOUBLE_EQ(median[k].sigma, mean[k].sigma);  // sigma stays about the mean
+  }
+}
+
 TEST(CurveStatistics, PlanesBeyondTheCurvesAreEmpty) {
   const std::vector<Eigen::MatrixX3d> curves = {rotatedArc(0.08, 0.1, 0.5, 101)};
   const CuttingPlaneFamily f = radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.0, 1.0, kPi});

@@ -76,6 +76,10 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     f.atlasPoints = static_cast<int>(atlas.mean.size());
     f.distance = compareCurves(curves[h], carryCurve(atlas, deformed[h]).mean, atlas.planes);
     f.rigidOnly = compareCurves(curves[h], carryCurve(atlas, templ.V).mean, atlas.planes);
+    LigamentAtlasOptions om = o.atlas;
+    om.centre = CurveCentre::Median;
+    const CurveAtlas medianAtlas = ligamentCurveAtlas(templ, others, om);
+    f.median = compareCurves(curves[h], carryCurve(medianAtlas, deformed[h]).mean, medianAtlas.planes);
     say(fmt::format("held out {}: {} planes, mean {:.1f} mm, max {:.1f} mm (rigid only: mean {:.1f} mm)",
                     subjects[h].name, f.distance.planes, 1e3 * f.distance.planeMean,
                     1e3 * f.distance.planeMax, 1e3 * f.rigidOnly.planeMean));

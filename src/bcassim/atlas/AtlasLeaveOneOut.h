@@ -19,6 +19,7 @@ struct LeaveOneOutFold {
   int atlasPoints = 0;     // mean-curve points of this fold's atlas
   CurveDistance distance;  // transferred mean curve vs the expert curve (m)
   CurveDistance rigidOnly;  // same with the template only aligned rigidly (no LDDMM), for contrast
+  CurveDistance median;     // LDDMM, per-plane geometric median instead of options' centre
 };
 
 struct LeaveOneOutResult {

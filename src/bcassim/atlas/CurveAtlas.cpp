@@ -12,9 +12,9 @@
 namespace bcassim {
 
 CurveAtlas buildCurveAtlas(const TriMesh& templ, const std::vector<Eigen::MatrixX3d>& curves,
-                           const CuttingPlaneFamily& planes, int minCount) {
+                           const CuttingPlaneFamily& planes, int minCount, CurveCentre centre) {
   if (templ.F.rows() == 0) throw InputError("curve atlas: the template has no faces");
-  const std::vector<PlaneStatistics> stats = curveStatistics(curves, planes);
+  const std::vector<PlaneStatistics> stats = curveStatistics(curves, planes, centre);
   const SurfaceLocator locator(templ);
   CurveAtlas a;
   a.planes = planes;

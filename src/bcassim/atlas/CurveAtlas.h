@@ -32,7 +32,8 @@ struct CarriedCurve {
 // contributes a mean point when at least minCount curves cross it. Throws InputError when the
 // template has no faces or no plane has minCount crossings.
 CurveAtlas buildCurveAtlas(const TriMesh& templ, const std::vector<Eigen::MatrixX3d>& curves,
-                           const CuttingPlaneFamily& planes, int minCount);
+                           const CuttingPlaneFamily& planes, int minCount,
+                           CurveCentre centre = CurveCentre::Mean);
 
 // The atlas curve carried by the template's vertices moved to V (#V by 3, same faces).
 CarriedCurve carryCurve(const CurveAtlas& atlas, const Eigen::MatrixX3d& V);

@@ -8,8 +8,30 @@
 
 namespace bcassim {
 
+namespace {
+// Weiszfeld iterations from the mean; stops when a step moves less than 1e-12 of the spread.
+Eigen::Vector3d geometricMedian(const std::vector<Eigen::Vector3d>& pts, Eigen::Vector3d m,
+                                double scale) {
+  for (int it = 0; it < 200; ++it) {
+    Eigen::Vector3d num = Eigen::Vector3d::Zero();
+    double den = 0.0;
+    for (const auto& p : pts) {
+      const double d = (p - m).norm();
+      if (d < 1e-15 * (scale + 1e-300)) return p;  // the median sits on a point
+      num += p / d;
+      den += 1.0 / d;
+    }
+    const Eigen::Vector3d next = num / den;
+    const double step = (next - m).norm();
+    m = next;
+    if (step <= 1e-12 * scale) break;
+  }
+  return m;
+}
+}  // namespace
+
 std::vector<PlaneStatistics> curveStatistics(const std::vector<Eigen::MatrixX3d>& curves,
-                                             const CuttingPlaneFamily& planes) {
+                                             const CuttingPlaneFamily& planes, CurveCentre centre) {
   std::vector<PlaneStatistics> out;
   out.reserve(planes.planes.size());
   for (const CuttingPlane& plane : planes.planes) {
@@ -51,6 +73,7 @@ std::vector<PlaneStatistics> curveStatistics(const std::vector<Eigen::MatrixX3d>
     if (s.count >= 2) {
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
       s.spread = eig.eigenvectors().col(2);
+      if (centre == CurveCentre::Median) s.mean = geometricMedian(pts, s.mean, s.sigma);
     }
     out.push_back(s);
   }

@@ -8,11 +8,15 @@
 
 namespace bcassim {
 
+// Centre of the crossing points of a plane: their mean (the thesis) or their geometric median
+// (robust to a few misregistered curves).
+enum class CurveCentre { Mean, Median };
+
 struct PlaneStatistics {
   int count = 0;  // curves crossing the plane (one point each)
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  // Euclidean mean of the points (m)
-  // Root-mean-square distance of the points to their mean (m): the standard deviation of the
-  // position, normalised by count (not count - 1).
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  // centre of the points (m): mean or median
+  // Root-mean-square distance of the points to their Euclidean mean (m): the standard deviation
+  // of the position, normalised by count (not count - 1).
   double sigma = 0.0;
   // Unit direction of largest spread of the points (zero when count < 2).
   Eigen::Vector3d spread = Eigen::Vector3d::Zero();
@@ -22,6 +26,7 @@ struct PlaneStatistics {
 // crossing closest to the centroid of all curves' crossings of that plane, so that each curve
 // weighs once.
 std::vector<PlaneStatistics> curveStatistics(const std::vector<Eigen::MatrixX3d>& curves,
-                                             const CuttingPlaneFamily& planes);
+                                             const CuttingPlaneFamily& planes,
+                                             CurveCentre centre = CurveCentre::Mean);
 
 }  // namespace bcassim

@@ -34,6 +34,7 @@ struct LigamentAtlasOptions {
   double planeStepDegrees = 5.0;
   // A plane yields a mean point when at least this fraction of the curves crosses it.
   double minCrossingFraction = 0.25;
+  CurveCentre centre = CurveCentre::Mean;  // per-plane centre: mean (thesis) or geometric median
 };
 
 struct LigamentAtlas {
