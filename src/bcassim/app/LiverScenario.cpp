@@ -134,6 +134,9 @@ LiverAnatomy findAnatomy(const TetMesh& mesh, const Eigen::MatrixX3d& curve,
     if ((p - a.center).norm() < best) best = (p - a.center).norm(), a.hilum = p;
   }
   if (!std::isfinite(best)) a.hilum = guessHilumPoint(mesh, curve, -a.anterior);
+  // Hold at least a few tets' worth of nodes, however coarse the mesh.
+  while (static_cast<int>(nodesWithinRadius(mesh, a.hilum, a.vesselRadius).size()) < 12)
+    a.vesselRadius *= 1.1;
   return a;
 }
 

@@ -54,7 +54,7 @@ struct LiverAnatomy {
   // Centre of the fixed vessel region: the surface point nearest the centre on the visceral side
   // (the porta hepatis notch).
   Vec3 hilum = Vec3::Zero();
-  double vesselRadius = 0.012;
+  double vesselRadius = 0.012;  // m, grown until the sphere holds 12 nodes of the coarse mesh
   Vec3 rightLoad = Vec3::Zero(), leftLoad = Vec3::Zero();  // centres of the loaded regions
   double loadRadius = 0.03;
   bool ridgeFound = false;
