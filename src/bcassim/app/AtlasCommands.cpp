@@ -181,7 +181,7 @@ struct BuildArgs {
   std::string dir, out = "out/atlas";
   int label = 2, maxSubjects = 0;
   std::vector<std::string> exclude;
-  double scale = 1e-3, planeStep = 5.0;
+  double scale = 1e-3, planeStep = 5.0, minCrossing = 0.25;
   bool noFrechet = false, median = false;
   RegistrationFlags reg;
 };
@@ -204,6 +204,7 @@ void runBuild(BuildArgs b) {
   o.registration = b.reg.options();
   o.frechetMean = !b.noFrechet;
   o.planeStepDegrees = b.planeStep;
+  o.minCrossingFraction = b.minCrossing;
   if (b.median) o.centre = CurveCentre::Median;
   const LigamentAtlas atlas = buildLigamentAtlas(livers.subjects, o, [](const std::string& s) {
     fmt::print("{}\n", s);
@@ -262,7 +263,7 @@ void runTransfer(const TransferArgs& t) {
 struct LooArgs {
   std::string dir, out = "out/atlas-loo", templ;
   int label = 2, heldOut = 10, maxLivers = 0;
-  double scale = 1e-3, planeStep = 5.0;
+  double scale = 1e-3, planeStep = 5.0, minCrossing = 0.25;
   RegistrationFlags reg;
 };
 
@@ -280,6 +281,7 @@ void runLoo(LooArgs a) {
   LeaveOneOutOptions o;
   o.atlas.registration = a.reg.options();
   o.atlas.planeStepDegrees = a.planeStep;
+  o.atlas.minCrossingFraction = a.minCrossing;
   if (!a.templ.empty()) {
     o.templateSubject = -1;
     for (int i = 0; i < n; ++i)
@@ -417,6 +419,9 @@ void addAtlasCommands(CLI::App& app) {
       ->capture_default_str();
   build->add_flag("--no-frechet", b->noFrechet,
                   "Keep the first liver as template instead of the Frechet mean (faster)");
+  build->add_option("--min-crossing", b->minCrossing,
+                    "Fraction of the curves that must cross a plane for it to get a mean point")
+      ->capture_default_str();
   build->add_flag("--median", b->median,
                   "Per-plane geometric median of the crossings instead of their mean");
   build->add_option("--scale", b->scale, scaleHelp)->capture_default_str();
@@ -450,6 +455,9 @@ void addAtlasCommands(CLI::App& app) {
   loo->add_option("--label", l->label, ".eseg label of the curve (2: falciform)")
       ->capture_default_str();
   loo->add_option("--plane-step", l->planeStep, "Angle between radial cutting planes (degrees)")
+      ->capture_default_str();
+  loo->add_option("--min-crossing", l->minCrossing,
+                  "Fraction of the curves that must cross a plane for it to get a mean point")
       ->capture_default_str();
   loo->add_option("--scale", l->scale, scaleHelp)->capture_default_str();
   l->reg.add(loo);
