@@ -105,6 +105,45 @@ TEST(LigamentAtlas, MeanAndSigmaOfShiftedCurvesOnMovedOrgans) {
   EXPECT_GE(full, 9);
 }
 
+TEST(LigamentAtlas, ParallelPlanesForCurvesAlongTheTransverseAxis) {
+  // Three curves running along x on the organ, at polar angles -0.2, 0, 0.2 rad about x from +y
+  // (sections of radius r(x) = b sqrt(1 - x^2/a^2) in y, c sqrt(...) in z). Planes x = const cut
+  // each once; the mean of the three crossings lies at polar angle 0.
+  std::vector<Eigen::MatrixX3d> curves;
+  for (double t : {-0.2, 0.0, 0.2}) {
+    Eigen::MatrixX3d c(201, 3);
+    for (int i = 0; i < 201; ++i) {
+      const double x = -0.05 + 0.1 * i / 200.0, s = std::sqrt(1.0 - x * x / (0.08 * 0.08));
+      c.row(i) << x, kAxes.y() * s * std::cos(t), kAxes.z() * s * std::sin(t);
+    }
+    curves.push_back(c);
+  }
+  LigamentAtlasOptions o;
+  o.planes = CuttingPlaneFamily::Kind::Parallel;
+  o.planeSpacing = 0.01;
+  const TriMesh templ = organ();
+  const CurveAtlas a = ligamentCurveAtlas(templ, curves, o);
+  EXPECT_EQ(a.planes.kind, CuttingPlaneFamily::Kind::Parallel);
+  EXPECT_NEAR(std::abs(a.planes.axis.x()), 1.0, 1e-15);
+  // Planes every 10 mm from the bounding-box centre; those within |x| < 0.05 are crossed.
+  ASSERT_GE(a.mean.size(), 9);
+  const Eigen::MatrixX3d m = a.mean.positions(templ.V);
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    EXPECT_EQ(a.count[i], 3);
+    const double x = a.planes.planes[a.plane[i]].point.x();
+    EXPECT_NEAR(m(i, 0), x, 1e-3);   // in its plane, up to the projection onto the mesh
+    EXPECT_NEAR(m(i, 2), 0.0, 1e-3);  // at polar angle 0
+    const double s = std::sqrt(1.0 - x * x / (0.08 * 0.08));
+    EXPECT_NEAR(m(i, 1), kAxes.y() * s, 1.5e-3);
+    // sigma: RMS distance of the crossings to their mean, sqrt(2/3) times the side offset.
+    const Eigen::Vector2d side(kAxes.y() * s * std::cos(0.2), kAxes.z() * s * std::sin(0.2));
+    const Eigen::Vector2d centre((kAxes.y() * s + 2.0 * side.x()) / 3.0, 0.0);
+    const double sigma = std::sqrt(
+        (2.0 * (side - centre).squaredNorm() + (Eigen::Vector2d(kAxes.y() * s, 0) - centre).squaredNorm()) / 3.0);
+    EXPECT_NEAR(a.sigma(i), sigma, 1e-6);
+  }
+}
+
 TEST(LigamentAtlas, TransferFollowsAScaledRotatedPatient) {
   const LigamentAtlas atlas = buildLigamentAtlas(subjects(0.01), quickOptions());
   // Patient: the organ 10 % larger, turned and moved.

@@ -181,7 +181,8 @@ struct BuildArgs {
   std::string dir, out = "out/atlas";
   int label = 2, maxSubjects = 0;
   std::vector<std::string> exclude;
-  double scale = 1e-3, planeStep = 5.0, minCrossing = 0.25;
+  double scale = 1e-3, planeStep = 5.0, minCrossing = 0.25, planeSpacing = 0.005;
+  std::string planes = "radial";
   bool noFrechet = false, median = false;
   RegistrationFlags reg;
 };
@@ -205,6 +206,8 @@ void runBuild(BuildArgs b) {
   o.frechetMean = !b.noFrechet;
   o.planeStepDegrees = b.planeStep;
   o.minCrossingFraction = b.minCrossing;
+  o.planeSpacing = b.planeSpacing;
+  if (b.planes == "parallel") o.planes = CuttingPlaneFamily::Kind::Parallel;
   if (b.median) o.centre = CurveCentre::Median;
   const LigamentAtlas atlas = buildLigamentAtlas(livers.subjects, o, [](const std::string& s) {
     fmt::print("{}\n", s);
@@ -419,6 +422,13 @@ void addAtlasCommands(CLI::App& app) {
       ->capture_default_str();
   build->add_flag("--no-frechet", b->noFrechet,
                   "Keep the first liver as template instead of the Frechet mean (faster)");
+  build->add_option("--planes", b->planes,
+                    "Cutting planes: radial (around the left-right axis; falciform) or parallel "
+                    "(perpendicular to it; curves along a flatter surface)")
+      ->check(CLI::IsMember({"radial", "parallel"}))
+      ->capture_default_str();
+  build->add_option("--plane-spacing", b->planeSpacing, "Distance between parallel planes (m)")
+      ->capture_default_str();
   build->add_option("--min-crossing", b->minCrossing,
                     "Fraction of the curves that must cross a plane for it to get a mean point")
       ->capture_default_str();

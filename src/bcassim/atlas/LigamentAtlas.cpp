@@ -41,11 +41,25 @@ CurveAtlas ligamentCurveAtlas(const TriMesh& templ, const std::vector<Eigen::Mat
   towards /= static_cast<double>(std::max<Eigen::Index>(count, 1));
   towards -= towards.dot(axis) * axis;
   if (towards.norm() < 1e-9) towards = axis.unitOrthogonal();
-  if (!(o.planeStepDegrees > 0.0)) throw InputError("ligament atlas: plane step must be positive");
-  const double step = o.planeStepDegrees * std::numbers::pi / 180.0;
-  const int half = static_cast<int>(std::floor(0.5 * std::numbers::pi / step + 1e-9));
-  const CuttingPlaneFamily planes =
-      radialPlanes(centre, axis, towards, evenAngles(-half * step, half * step, 2 * half + 1));
+  CuttingPlaneFamily planes;
+  if (o.planes == CuttingPlaneFamily::Kind::Parallel) {
+    if (!(o.planeSpacing > 0.0)) throw InputError("ligament atlas: plane spacing must be positive");
+    // Offsets from the centre along the axis, covering the template.
+    const Eigen::VectorXd along = (templ.V.rowwise() - centre.transpose()) * axis;
+    std::vector<double> offsets;
+    for (double d = std::ceil(along.minCoeff() / o.planeSpacing) * o.planeSpacing;
+         d <= along.maxCoeff(); d += o.planeSpacing)
+      offsets.push_back(d);
+    if (offsets.empty()) offsets.push_back(0.0);
+    planes = parallelPlanes(centre, axis, offsets);
+  } else {
+    if (!(o.planeStepDegrees > 0.0)) {
+      throw InputError("ligament atlas: plane step must be positive");
+    }
+    const double step = o.planeStepDegrees * std::numbers::pi / 180.0;
+    const int half = static_cast<int>(std::floor(0.5 * std::numbers::pi / step + 1e-9));
+    planes = radialPlanes(centre, axis, towards, evenAngles(-half * step, half * step, 2 * half + 1));
+  }
   const auto n = static_cast<double>(carried.size());
   const int minCount = std::max(std::min(2, static_cast<int>(carried.size())),
                                 static_cast<int>(std::ceil(o.minCrossingFraction * n)));

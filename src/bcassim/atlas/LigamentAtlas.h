@@ -27,11 +27,15 @@ struct LigamentAtlasOptions {
   bool frechetMean = true;
   int templateSubject = 0;  // subject whose (centred) surface starts the template
   bool rigidAlign = true;   // multi-start ICP of every subject onto the template subject
-  // Radial cutting planes: they contain the transverse axis (in the template subject's frame)
-  // through the template's bounding-box centre; angles cover [-90, 90] degrees around the mean
-  // direction of the curves, every planeStepDegrees.
+  // Cutting planes. Radial (falciform, thesis §5.2): they contain the transverse axis (in the
+  // template subject's frame) through the template's bounding-box centre; angles cover
+  // [-90, 90] degrees around the mean direction of the curves, every planeStepDegrees.
+  // Parallel (curves along a flatter surface, e.g. coronary): perpendicular to the transverse
+  // axis, every planeSpacing across the template.
+  CuttingPlaneFamily::Kind planes = CuttingPlaneFamily::Kind::Radial;
   Eigen::Vector3d transverse = Eigen::Vector3d::UnitX();
   double planeStepDegrees = 5.0;
+  double planeSpacing = 0.005;  // m
   // A plane yields a mean point when at least this fraction of the curves crosses it.
   double minCrossingFraction = 0.25;
   CurveCentre centre = CurveCentre::Mean;  // per-plane centre: mean (thesis) or geometric median
