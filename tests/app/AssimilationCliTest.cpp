@@ -93,6 +93,16 @@ TEST(AssimilationCli, InflationOnlyForUkfAndEtkf) {
               "its rank)");
 }
 
+TEST(AssimilationCli, TangentOptionsNeedTheMeanTangent) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string("  tangent_background: true\n") + kParameters +
+                                  "  observations: {tracks: tracks.csv}\n"),
+              "scene.yaml:7: assimilation.tangent_background: only for tangent: mean");
+  expectError(assimilate(dir, std::string("  tangent: frozen\n") + kParameters +
+                                  "  observations: {tracks: tracks.csv}\n"),
+              "scene.yaml:7: assimilation.tangent: expected one of own, mean, got 'frozen'");
+}
+
 TEST(AssimilationCli, RunPrintsSummaryAndWritesFiles) {
   const auto dir = freshDir();
   const test::CliResult r = assimilate(

@@ -87,5 +87,53 @@ TEST(MechanicalForecastModel, SharedFactorisationGivesTheDirectResult) {
   }
 }
 
+// tangent: mean — every worker steps with the tangent worker 0 built at the analysed mean (with
+// the mean's parameters), synchronously at endStep or, in the background, one step later.
+TEST(MechanicalForecastModel, MeanTangentForecastsStepWithTheMeansTangent) {
+  const MechanicalModel model = cylinderModel();
+  const MechanicalState initial = model.restState();
+  const std::vector<ModelParameterTarget> params{YoungModulusTarget{0, "stvk", 0.45}};
+  const ImplicitEulerOptions euler{0.01, 0, 1e-10};
+  const Eigen::VectorXd E0 = Eigen::VectorXd::Constant(1, 8000.0);
+  const Eigen::VectorXd E1 = Eigen::VectorXd::Constant(1, 9500.0);
+  MechanicalModel at8000 = model, at9500 = model;
+  applyParameter(params[0], 8000.0, at8000);
+  applyParameter(params[0], 9500.0, at9500);
+
+  for (bool background : {false, true}) {
+    ForecastModelOptions o;
+    o.meanTangent = true;
+    o.tangentInBackground = background;
+    auto shared = std::make_shared<SharedFactorization>();
+    MechanicalForecastModel w0(at8000, euler, {}, params, initial, o, 0, shared);
+    MechanicalForecastModel w1(at8000, euler, {}, params, initial, o, 1, shared);
+    ASSERT_TRUE(shared->tangent);
+    std::vector<MechanicalState> means{initial};  // analysed means, step by step
+    Eigen::VectorXd state = w0.packState(initial), a, b, p;
+    for (int step = 1; step <= 4; ++step) {
+      w0.forecast(state, E0, a, p);
+      w1.forecast(state, E1, b, p);
+      // Expected: eq. 2.16 with E1's forces and the tangent of the mean (E0) of the previous
+      // step, or of the one before in the background.
+      const int lag = background ? std::max(step - 2, 0) : step - 1;
+      MechanicalState s = means.back();
+      ImplicitEuler direct(at9500, makeLinearSolver("cholmod"), euler);
+      direct.stepWithTangent(at9500, s, *FrozenTangent::build(at8000, means[lag], 0.01));
+      const Eigen::Index n = s.x.size();
+      EXPECT_LT((b.head(n) - s.x).norm(), 1e-12 * s.x.norm()) << background << " step " << step;
+      EXPECT_LT((b.tail(n) - s.v).norm(), 1e-9 * s.v.norm()) << background << " step " << step;
+      w0.endStep(a, E0);
+      w1.endStep(a, E0);
+      means.push_back(w0.reference());
+      state = a;
+    }
+    const ForecastStats cost = w0.takeStats();
+    EXPECT_EQ(cost.forecasts, 4);
+    EXPECT_EQ(cost.factorizations, background ? 4 : 5);  // the first at construction
+    EXPECT_EQ(cost.linearIterations, 0);
+    EXPECT_EQ(w0.takeStats().forecasts, 0);
+  }
+}
+
 }  // namespace
 }  // namespace bcassim

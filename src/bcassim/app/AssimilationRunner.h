@@ -51,6 +51,7 @@ struct AssimilationResult {
   RunErrors initial;    // forward run with the initial parameters
   double medianStepMs = 0.0, meanStepMs = 0.0;
   double wallSeconds = 0.0;
+  int tangentFailures = 0;  // tangent: mean — mean tangents not positive definite (old one kept)
 };
 
 // Assimilates scene.assimilation (which must be set) over scene.steps steps, writing to outDir:

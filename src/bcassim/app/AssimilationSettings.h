@@ -51,6 +51,11 @@ struct AssimilationSettings {
   bool carryPositions = true;
   bool carryVelocities = true;
   bool reuseFactorization = true;  // thesis Alg. 4/5: factorized-pcg sharing worker 0's factor
+  // tangent: mean — every forecast steps with the tangent of the analysed mean, factorised once
+  // per refresh (FrozenTangent; a Rosenbrock-W step) instead of assembling and solving its own.
+  bool meanTangent = false;
+  int tangentRefreshEvery = 1;  // steps between two mean tangents
+  bool tangentInBackground = false;  // build it while the next step runs (one step older)
   std::vector<EstimatedParameter> parameters;
   ObservationSettings observations;
   std::optional<TrackFrames> validationTruth;  // truth positions of the validation points, m

@@ -169,7 +169,9 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
                                               const AssimilationContext& c) {
   MapReader r(src, node, "assimilation",
               {"filter", "sigma_points", "members", "inflation", "seed", "threads", "state",
-               "reuse_factorization", "parameters", "observations", "validation"});
+               "reuse_factorization", "tangent", "tangent_refresh_every", "tangent_background",
+               "parameters",
+               "observations", "validation"});
   AssimilationSettings s;
   const std::string filter = r.choice("filter", "roukf", {"ukf", "roukf", "etkf"});
   s.filter = filter == "ukf"     ? FilterKind::Ukf
@@ -194,6 +196,11 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.carryPositions = state.boolean("positions", true);
   s.carryVelocities = state.boolean("velocities", true);
   s.reuseFactorization = r.boolean("reuse_factorization", true);
+  s.meanTangent = r.choice("tangent", "own", {"own", "mean"}) == "mean";
+  s.tangentRefreshEvery = r.integer("tangent_refresh_every", 1, Range::AtLeastOne);
+  s.tangentInBackground = r.boolean("tangent_background", false);
+  r.rejectUnless(s.meanTangent, "tangent_refresh_every", "tangent: mean");
+  r.rejectUnless(s.meanTangent, "tangent_background", "tangent: mean");
 
   const auto entries = listElements(src, r.node("parameters"), r.pathOf("parameters"));
   if (entries.empty())

@@ -391,7 +391,11 @@ LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::str
     e << common << "output: {every: 20}\n";
     e << "assimilation:\n  filter: roukf\n";
     e << fmt::format("  threads: {}\n", o.threads);
-    e << "  state: {positions: true, velocities: true}\n  reuse_factorization: true\n";
+    e << "  state: {positions: true, velocities: true}\n";
+    // Real time (issue 4): every sigma point steps with the tangent of the analysed mean, built
+    // and factorised on a thread of its own while the next step runs (docs/liver.md).
+    e << "  tangent: mean                 # own: each sigma point its own eq. 2.16 step (slower)\n"
+         "  tangent_background: true\n";
     e << "  parameters:\n";
     for (int g = 0; g < o.groups; ++g)
       e << fmt::format(

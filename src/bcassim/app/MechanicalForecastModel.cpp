@@ -1,5 +1,9 @@
 #include "bcassim/app/MechanicalForecastModel.h"
 
+#include <stdexcept>
+
+#include "bcassim/Error.h"
+
 #include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 
@@ -17,7 +21,47 @@ MechanicalForecastModel::MechanicalForecastModel(
       reference_(initial),
       options_(options),
       worker_(worker),
-      shared_(options.shareFactorization ? std::move(shared) : nullptr) {}
+      shared_(options.shareFactorization || options.meanTangent ? std::move(shared) : nullptr) {
+  if (options_.meanTangent) {
+    if (!shared_)
+      throw std::invalid_argument("MechanicalForecastModel: meanTangent needs a SharedFactorization");
+    if (worker_ == 0) buildMeanTangent();
+  }
+}
+
+ForecastStats& ForecastStats::operator+=(const ForecastStats& o) {
+  assemblySeconds += o.assemblySeconds;
+  solveSeconds += o.solveSeconds;
+  tangentSeconds += o.tangentSeconds;
+  forecasts += o.forecasts;
+  tangentFailures += o.tangentFailures;
+  linearIterations += o.linearIterations;
+  factorizations += o.factorizations;
+  return *this;
+}
+
+ForecastStats MechanicalForecastModel::takeStats() {
+  ForecastStats out = stats_;
+  stats_ = {};
+  return out;
+}
+
+void MechanicalForecastModel::buildMeanTangent() {
+  const CholeskyFactor* analysis = shared_->tangent ? &shared_->tangent->factor() : nullptr;
+  shared_->stepsSinceTangent = 0;
+  try {
+    adoptTangent(FrozenTangent::build(model_, reference_, integrator_.options().dt, analysis));
+  } catch (const NumericalError&) {
+    if (!shared_->tangent) throw;  // nothing to fall back on
+    ++stats_.tangentFailures;
+  }
+}
+
+void MechanicalForecastModel::adoptTangent(std::shared_ptr<const FrozenTangent> tangent) {
+  shared_->tangent = std::move(tangent);
+  stats_.tangentSeconds += shared_->tangent->buildSeconds();
+  ++stats_.factorizations;
+}
 
 Eigen::Index MechanicalForecastModel::stateSize() const {
   const Eigen::Index n = 3 * model_.mesh->numNodes();
@@ -59,11 +103,29 @@ void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen
   work_ = reference_;
   unpackState(state, work_);
   setParameters(params);
+  ++stats_.forecasts;
+  if (options_.meanTangent) {
+    integrator_.stepWithTangent(model_, work_, *shared_->tangent);
+    const StepTimings& t = integrator_.lastTimings();
+    stats_.assemblySeconds += t.assembly;
+    stats_.solveSeconds += t.solve;
+    newState = packState(work_);
+    observe(work_, predicted);
+    return;
+  }
   // Thesis Alg. 4/5: worker 0 refreshes the factorisation when its policy says so; the others
   // precondition their PCG with the one it published (SharedFactorization).
   auto* reuse = dynamic_cast<FactorizedPcgSolver*>(&integrator_.linearSolver());
   if (shared_ && reuse && worker_ != 0 && shared_->factor) reuse->shareFactor(shared_->factor);
+  const int factorizationsBefore = reuse ? reuse->factorizations() : 0;
   integrator_.step(model_, work_);
+  {
+    const StepTimings& t = integrator_.lastTimings();
+    stats_.assemblySeconds += t.assembly;
+    stats_.solveSeconds += t.solve;
+    stats_.linearIterations += t.lastSolve.iterations;
+    if (reuse) stats_.factorizations += reuse->factorizations() - factorizationsBefore;
+  }
   if (shared_ && reuse && worker_ == 0) {
     shared_->next = reuse->factor();
     if (shared_->withinStep) shared_->factor = shared_->next;
@@ -78,12 +140,40 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
   if (options_.layout.positions && options_.layout.velocities) {
     unpackState(state, reference_);
     reference_.t += integrator_.options().dt;
+    refreshMeanTangent();
     return;
   }
   // Without the full mechanical state in the filter, the mean trajectory is continued by one more
   // step with the analysed parameters, then corrected by whatever part the filter does carry.
-  integrator_.step(model_, reference_);
+  if (options_.meanTangent)
+    integrator_.stepWithTangent(model_, reference_, *shared_->tangent);
+  else
+    integrator_.step(model_, reference_);
   unpackState(state, reference_);
+  refreshMeanTangent();
+}
+
+void MechanicalForecastModel::refreshMeanTangent() {
+  if (!options_.meanTangent || worker_ != 0) return;
+  if (pendingTangent_.valid()) {  // built during the step that just ended
+    try {
+      adoptTangent(pendingTangent_.get());
+    } catch (const NumericalError&) {
+      ++stats_.tangentFailures;
+    }
+  }
+  if (++shared_->stepsSinceTangent < options_.tangentRefreshEvery) return;
+  if (!options_.tangentInBackground) {
+    buildMeanTangent();
+    return;
+  }
+  shared_->stepsSinceTangent = 0;
+  tangentModel_ = model_;
+  tangentState_ = reference_;
+  pendingTangent_ = std::async(std::launch::async, [this, analysis = shared_->tangent] {
+    return FrozenTangent::build(*tangentModel_, tangentState_, integrator_.options().dt,
+                                &analysis->factor());
+  });
 }
 
 Eigen::MatrixX3d MechanicalForecastModel::positionsOf(const std::vector<MappedPoint>& points) const {

@@ -1,11 +1,14 @@
 // The one place where the FEM meets the filter: implements ForecastModel (simulate one step from a
 // given state and parameters; predict marker positions) over a MechanicalModel and implicit Euler.
 #pragma once
+#include <future>
+#include <optional>
 #include <memory>
 #include <vector>
 
 #include "bcassim/app/ModelParameter.h"
 #include "bcassim/assimilation/ForecastModel.h"
+#include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/mechanics/ImplicitEuler.h"
 #include "bcassim/mechanics/solvers/CholeskyFactor.h"
 #include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
@@ -27,6 +30,20 @@ struct SharedFactorization {
   std::shared_ptr<CholeskyFactor> factor;
   std::shared_ptr<CholeskyFactor> next;
   bool withinStep = false;
+  // With ForecastModelOptions::meanTangent: the tangent every worker steps with, rebuilt by worker
+  // 0 at the analysed mean in endStep().
+  std::shared_ptr<const FrozenTangent> tangent;
+  int stepsSinceTangent = 0;
+};
+
+// What one worker's forecasts cost since the last takeStats(): CPU seconds in each part.
+struct ForecastStats {
+  double assemblySeconds = 0, solveSeconds = 0, tangentSeconds = 0;
+  int forecasts = 0, linearIterations = 0, factorizations = 0;
+  // Mean tangents that were not positive definite (the previous one was kept: any tangent gives
+  // a consistent step, see ImplicitEuler::stepWithTangent).
+  int tangentFailures = 0;
+  ForecastStats& operator+=(const ForecastStats& o);
 };
 
 struct ForecastModelOptions {
@@ -35,6 +52,13 @@ struct ForecastModelOptions {
   RefreshPolicy refresh;                  // factorized-pcg policy
   // Share worker 0's factorisation with the other workers (see SharedFactorization).
   bool shareFactorization = true;
+  // Step every forecast with the tangent of the analysed mean (ImplicitEuler::stepWithTangent),
+  // rebuilt every tangentRefreshEvery steps; needs a shared SharedFactorization.
+  bool meanTangent = false;
+  int tangentRefreshEvery = 1;
+  // Build the mean's tangent on a thread of its own while the next step's forecasts run; they
+  // then use the tangent of the mean one step older (deterministically).
+  bool tangentInBackground = false;
 };
 
 class MechanicalForecastModel final : public ForecastModel {
@@ -62,11 +86,16 @@ class MechanicalForecastModel final : public ForecastModel {
   Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
   // Timings of this worker's last forecast (assembly / solve), for benchmarks.
   const StepTimings& lastTimings() const { return integrator_.lastTimings(); }
+  // Costs accumulated since the last call, which resets them.
+  ForecastStats takeStats();
 
  private:
   void unpackState(const Eigen::VectorXd& state, MechanicalState& s) const;
   void setParameters(const Eigen::VectorXd& params);
   void observe(const MechanicalState& s, Eigen::VectorXd& predicted) const;
+  void buildMeanTangent();
+  void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);
+  void refreshMeanTangent();
 
   MechanicalModel model_;
   ImplicitEuler integrator_;
@@ -76,6 +105,12 @@ class MechanicalForecastModel final : public ForecastModel {
   ForecastModelOptions options_;
   int worker_;
   std::shared_ptr<SharedFactorization> shared_;
+  ForecastStats stats_;
+  // Worker 0 with tangentInBackground: the model and mean the pending tangent is built from.
+  // Declared last so that the pending build finishes before they are destroyed.
+  std::optional<MechanicalModel> tangentModel_;
+  MechanicalState tangentState_;
+  std::future<std::shared_ptr<const FrozenTangent>> pendingTangent_;
 };
 
 }  // namespace bcassim

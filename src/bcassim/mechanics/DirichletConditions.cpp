@@ -42,19 +42,27 @@ void DirichletConditions::impose(const Eigen::VectorXd& rest, double t, Eigen::V
 
 void DirichletConditions::eliminate(SparseMatrix& A, Eigen::VectorXd& b,
                                     const Eigen::VectorXd& known) const {
+  eliminateRightHandSide(A, b, known);
+  eliminateMatrix(A);
+}
+
+void DirichletConditions::eliminateRightHandSide(const SparseMatrix& A, Eigen::VectorXd& b,
+                                                 const Eigen::VectorXd& known) const {
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
-  double* values = A.valuePtr();
+  const double* values = A.valuePtr();
   for (size_t k = 0; k < dofs_.size(); ++k) {
     if (known(k) == 0.0) continue;
     const int c = dofs_[k];
     for (int s = outer[c]; s < outer[c + 1]; ++s) b(inner[s]) -= values[s] * known(k);
   }
+  for (size_t k = 0; k < dofs_.size(); ++k) b(dofs_[k]) = known(k);
+}
+
+void DirichletConditions::eliminateMatrix(SparseMatrix& A) const {
+  double* values = A.valuePtr();
   for (int s : slotsToZero_) values[s] = 0.0;
-  for (size_t k = 0; k < dofs_.size(); ++k) {
-    values[diagonalSlots_[k]] = 1.0;
-    b(dofs_[k]) = known(k);
-  }
+  for (size_t k = 0; k < dofs_.size(); ++k) values[diagonalSlots_[k]] = 1.0;
 }
 
 }  // namespace bcassim

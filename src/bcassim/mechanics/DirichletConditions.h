@@ -33,6 +33,11 @@ class DirichletConditions {
   // constrainedDofs() order): moves known columns to the right-hand side, then makes the rows and
   // columns identity. A must have the pattern's structure.
   void eliminate(SparseMatrix& A, Eigen::VectorXd& b, const Eigen::VectorXd& known) const;
+  // The two halves of eliminate(): the right-hand side, from A as it was before elimination (so
+  // that one eliminated matrix can serve many right-hand sides), and the matrix alone.
+  void eliminateRightHandSide(const SparseMatrix& A, Eigen::VectorXd& b,
+                              const Eigen::VectorXd& known) const;
+  void eliminateMatrix(SparseMatrix& A) const;
   // Zeros the constrained entries of a vector (residuals, forces).
   void zeroConstrained(Eigen::VectorXd& v) const {
     for (int d : dofs_) v(d) = 0.0;

@@ -99,10 +99,56 @@ void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
     s.x = x0 + h * s.v;
   }
   s.t = tNext;
+  checkFinite(model, s);
+  timings_.total = seconds(start, Clock::now());
+}
+
+void ImplicitEuler::checkFinite(const MechanicalModel& model, const MechanicalState& s) const {
   if (!s.x.allFinite() || !s.v.allFinite())
     throw NumericalError(fmt::format("implicit Euler: non-finite state at t = {:.6g} s (time step "
                                      "too large, or an element inverted: {} tets)",
                                      s.t, model.elasticity.lastInvertedCount()));
+}
+
+void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalState& s,
+                                    const FrozenTangent& tangent) {
+  const auto start = Clock::now();
+  timings_ = {};
+  const double h = options_.dt;
+  if (tangent.dt() != h)
+    throw InputError(fmt::format("implicit Euler: the shared tangent was built for dt = {:.6g} s, "
+                                 "this integrator steps {:.6g} s",
+                                 tangent.dt(), h));
+  const double tNext = s.t + h;
+  const DirichletConditions& bc = model.dirichlet;
+
+  auto t0 = Clock::now();
+  model.internalForces(s.t, s.x, fint_);
+  model.externalForces(tNext, fext_);
+  Kv_.noalias() = tangent.stiffness() * s.v;
+  model.mass.multiply(s.v, Mv_);
+  rhs_ = h * (fext_ - fint_ - model.rayleighMass * Mv_ - (model.rayleighStiffness + h) * Kv_);
+  if (!bc.empty()) {
+    const Eigen::VectorXd target = bc.targetPositions(rest_, tNext);
+    knownDv_.resize(target.size());
+    for (Eigen::Index k = 0; k < target.size(); ++k) {
+      const int d = bc.constrainedDofs()[k];
+      knownDv_(k) = (target(k) - s.x(d)) / h - s.v(d);
+    }
+    bc.eliminateRightHandSide(tangent.systemMatrix(), rhs_, knownDv_);
+  }
+  timings_.assembly += seconds(t0, Clock::now());
+
+  t0 = Clock::now();
+  tangent.factor().solve(rhs_, dv_, factorWork_);
+  ++timings_.linearSolves;
+  timings_.lastSolve = {};
+  timings_.solve += seconds(t0, Clock::now());
+
+  s.v += dv_;
+  s.x += h * s.v;
+  s.t = tNext;
+  checkFinite(model, s);
   timings_.total = seconds(start, Clock::now());
 }
 

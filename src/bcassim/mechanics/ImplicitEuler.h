@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 
+#include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/mechanics/MechanicalModel.h"
 #include "bcassim/mechanics/solvers/LinearSolver.h"
 
@@ -30,6 +31,15 @@ class ImplicitEuler {
   // Advances state by one time step dt. Throws NumericalError if the result is not finite.
   void step(const MechanicalModel& model, MechanicalState& state);
 
+  // Eq. 2.16 with the stiffness of `tangent` (assembled at another state, or with other
+  // parameters) in place of K(x): a one-stage Rosenbrock-W step. Forces are this state's own; no
+  // tangent is assembled and nothing is factorised, so the step costs a force assembly and one
+  // solve with the shared factor. Consistent (first order) for any tangent; the same as step()
+  // when the tangent is that of this state. Extra Newton iterations are not run. Throws
+  // InputError if the tangent was built for another dt, NumericalError as step().
+  void stepWithTangent(const MechanicalModel& model, MechanicalState& state,
+                       const FrozenTangent& tangent);
+
   const StepTimings& lastTimings() const { return timings_; }
   const ImplicitEulerOptions& options() const { return options_; }
   LinearSolver& linearSolver() { return *solver_; }
@@ -37,11 +47,13 @@ class ImplicitEuler {
  private:
   // A = (1 + dt zM) M + (dt zK + dt^2) K where K is the stiffness already in A_.
   void formSystemMatrix(const MechanicalModel& model);
+  void checkFinite(const MechanicalModel& model, const MechanicalState& s) const;
 
   std::unique_ptr<LinearSolver> solver_;
   ImplicitEulerOptions options_;
   SparseMatrix A_;
-  Eigen::VectorXd fint_, fext_, Mv_, Kv_, rhs_, dv_, rest_;
+  Eigen::VectorXd fint_, fext_, Mv_, Kv_, rhs_, dv_, rest_, knownDv_;
+  CholeskyFactor::Workspace factorWork_;
   StepTimings timings_;
 };
 
