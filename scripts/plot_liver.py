@@ -68,9 +68,10 @@ def plot_tumours(directory):
     for r in rows:
         i = int(r["point"])
         t = float(r["time_s"])
-        s = series.setdefault(i, ([], [], []))
+        s = series.setdefault(i, ([], [], [], []))
         s[0].append(t)
         s[1].append(1e3 * float(r["radius95_m"]))
+        s[3].append(1e3 * float(r.get("radius95_total_m", r["radius95_m"])))
         err = float("nan")
         if times:
             nearest = min(times, key=lambda x: abs(x - t))
@@ -78,15 +79,17 @@ def plot_tumours(directory):
                 p = truth[nearest][i]
                 err = 1e3 * math.dist(p, (float(r["x_m"]), float(r["y_m"]), float(r["z_m"])))
         s[2].append(err)
-    fig, ax = plt.subplots(figsize=(8, 4))
-    for i, (t, radius, err) in sorted(series.items()):
-        line, = ax.plot(t, radius, label=f"tumour {i}: 95 % radius")
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for i, (t, radius, err, total) in sorted(series.items()):
+        line, = ax.plot(t, total, label=f"tumour {i}: 95 % radius (with model error)")
+        ax.plot(t, radius, ":", color=line.get_color(),
+                label=f"tumour {i}: 95 % radius (parameters only)")
         ax.plot(t, err, "--", color=line.get_color(), label=f"tumour {i}: distance to truth")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("mm")
     ax.set_title("hidden tumours: filter uncertainty and actual error")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.18))
     fig.tight_layout()
     out = os.path.join(directory, "tumours.png")
     fig.savefig(out, dpi=110)

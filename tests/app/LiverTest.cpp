@@ -5,8 +5,11 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <iostream>
+#include <random>
 
 #include "AppTestHelpers.h"
+#include "bcassim/app/InnovationModelError.h"
 #include "bcassim/app/LiverPhantom.h"
 #include "bcassim/app/LiverPipeline.h"
 #include "bcassim/app/PointUncertainty.h"
@@ -40,6 +43,26 @@ TEST(PointUncertainty, LinearMapOfTheStateCovariance) {
   const double lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues().maxCoeff();
   EXPECT_NEAR(u[0].radius95, std::sqrt(7.814727903251178 * lambda), 1e-12);
   EXPECT_THROW(pointUncertainty(mesh, {p}, S.topRows(n - 1)), InputError);
+}
+
+// Innovations of variance sigma^2 + q (observation noise plus a model error the filter does not
+// know): the estimate recovers q; none before any observation; never negative.
+TEST(InnovationModelError, RecoversTheExcessVarianceOfTheInnovations) {
+  const double sigma = 5e-4, q = 4e-7;  // 0.5 mm noise, 0.63 mm model error per coordinate
+  InnovationModelError e;
+  EXPECT_EQ(e.variance(sigma), 0.0);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> d(0.0, std::sqrt(sigma * sigma + q));
+  for (int step = 0; step < 2000; ++step) {
+    Eigen::VectorXd innovation(42);
+    for (Eigen::Index i = 0; i < innovation.size(); ++i) innovation(i) = d(rng);
+    e.add(innovation.norm(), innovation.size());
+    e.add(0.0, 0);  // a step without observations changes nothing
+  }
+  // 84,000 squares: the relative standard error of their mean is sqrt(2 / 84000) = 0.5 %, i.e.
+  // 4.7e-9 m^2 on sigma^2 + q = 6.5e-7; allow 5 standard errors.
+  EXPECT_NEAR(e.variance(sigma), q, 2.4e-8);
+  EXPECT_EQ(e.variance(1.0), 0.0);
 }
 
 TEST(TimeProfile, HalfSinePushesOneWayOnly) {
@@ -121,6 +144,12 @@ TEST(LiverPipeline, SmallPhantomEstimationBeatsFixedBaseline) {
   EXPECT_GT(r.maxDeformationMm, 2.0);
   EXPECT_LT(r.estimated.meanMm, r.fixed.meanMm);
   EXPECT_LT(r.estimated.maxMm, r.fixed.maxMm);
+  // The tumours' radius with the model error seen in the innovations is far wider than the
+  // parameters' alone and holds the true tumour most of the time.
+  EXPECT_GT(r.finalTumourTotalRadius95Mm, 10 * r.finalTumourRadius95Mm);
+  EXPECT_GT(r.tumourCoverage, 0.5);
+  std::cout << "[ phantom ] tumour radius " << r.finalTumourTotalRadius95Mm << " mm, coverage "
+            << r.tumourCoverage << "\n";
   for (const char* f : {"errors_over_time.csv", "summary.csv", "truth/hidden.csv",
                         "estimate/hidden_points.csv", "estimated/simulation.pvd"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;

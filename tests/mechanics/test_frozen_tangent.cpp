@@ -1,7 +1,8 @@
 // The linearly implicit Euler step with a given tangent (ImplicitEuler::stepWithTangent, a
 // one-stage Rosenbrock-W step): with the state's own tangent it is eq. 2.16 exactly, Dirichlet
 // motion included; with the tangent of another state its one-step difference from eq. 2.16 is
-// O(dt^2) (first-order consistency for any tangent); a wrong dt is refused.
+// O(dt^2) (first-order consistency for any tangent); springs with other coefficients than the
+// tangent's are still exact; a wrong dt is refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -82,6 +83,41 @@ TEST(FrozenTangent, TangentOfAnotherStateIsFirstOrderConsistent) {
     EXPECT_NEAR(order, 2.0, 0.15) << "dt halving " << i << ": " << differences[i - 1] << " -> "
                                   << differences[i];
   }
+}
+
+// Springs are what the estimated parameters change: a tangent built with other spring
+// coefficients (and the same state) must still give eq. 2.16 exactly, since the springs' own
+// stiffness replaces the tangent's through the low-rank correction.
+TEST(FrozenTangent, SpringsOfTheStepReplaceTheTangentsExactly) {
+  MechanicalModel model = cylinder(0.01);
+  std::vector<CubicSpring> springs;
+  for (int tet = 0; tet < model.mesh->numTets(); ++tet) {
+    const Vec3 centre = 0.25 * (model.mesh->V.row(model.mesh->T(tet, 0)) +
+                                model.mesh->V.row(model.mesh->T(tet, 1)) +
+                                model.mesh->V.row(model.mesh->T(tet, 2)) +
+                                model.mesh->V.row(model.mesh->T(tet, 3))).transpose();
+    if (std::abs(centre.z() - 0.12) > 0.01 || centre.y() < 0.008) continue;
+    springs.push_back({tet, Vec4::Constant(0.25), centre + Vec3(0, 0.03, 0.01), 0.025,
+                       static_cast<int>(springs.size() % 2)});
+  }
+  ASSERT_GE(springs.size(), 4u);
+  ASSERT_LE(springs.size(), static_cast<size_t>(FrozenTangent::kMaxCorrectedSprings));
+  model.springs = CubicSpringSet(springs, {{2e5, 0, 5.0}, {1e5, 0, 2.0}});
+  const double dt = 0.01;
+  const MechanicalState s = movingState(model, 20, dt);
+
+  MechanicalModel softer = model;  // the mean's coefficients: 10x softer
+  softer.springs.setCoefficients(0, {2e4, 0, 0.5});
+  softer.springs.setCoefficients(1, {1e4, 0, 0.2});
+  const auto tangent = FrozenTangent::build(softer, s, dt);
+  ASSERT_TRUE(tangent->correctsSprings());
+  MechanicalState exact = s, frozen = s;
+  ImplicitEuler a(model, makeLinearSolver("cholmod"), {dt, 0, 1e-10});
+  a.step(model, exact);
+  a.stepWithTangent(model, frozen, *tangent);
+  ASSERT_GT((exact.v - s.v).norm(), 1e-4);
+  EXPECT_LT((frozen.v - exact.v).norm(), 1e-9 * (exact.v - s.v).norm());
+  EXPECT_LT((frozen.x - exact.x).norm(), 1e-12 * exact.x.norm());
 }
 
 TEST(FrozenTangent, TangentBuiltForAnotherTimeStepIsRefused) {

@@ -1,4 +1,5 @@
 #include "bcassim/app/AssimilationRunner.h"
+#include "bcassim/app/InnovationModelError.h"
 
 #include <fmt/format.h>
 
@@ -168,18 +169,25 @@ class HiddenPointLog {
  public:
   HiddenPointLog(const Scene& scene, const std::filesystem::path& dir)
       : scene_(scene), path_(dir / "hidden_points.csv"), out_(openForWriting(path_)) {
-    out_ << "step,time_s,point,x_m,y_m,z_m,sigma_x_m,sigma_y_m,sigma_z_m,radius95_m\n";
+    out_ << "step,time_s,point,x_m,y_m,z_m,sigma_x_m,sigma_y_m,sigma_z_m,radius95_m,"
+            "model_error_sigma_m,radius95_total_m\n";
   }
 
-  void add(int step, double time, const MechanicalForecastModel& mean, const Filter& filter) {
+  // modelErrorVariance: q (m^2) of InnovationModelError, added isotropically to the covariance
+  // for radius95_total (the eigenvalues shift by q).
+  void add(int step, double time, const MechanicalForecastModel& mean, const Filter& filter,
+           double modelErrorVariance) {
     const Eigen::MatrixX3d p = mean.positionsOf(scene_.hidden.points);
     const std::vector<PointUncertainty> u =
         pointUncertainty(*scene_.model.mesh, scene_.hidden.points, filter.covarianceFactor());
     for (size_t i = 0; i < u.size(); ++i) {
       const auto r = static_cast<Eigen::Index>(i);
-      out_ << fmt::format("{},{:.9g},{},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g}\n", step,
-                          time, i, p(r, 0), p(r, 1), p(r, 2), u[i].sigma(0), u[i].sigma(1),
-                          u[i].sigma(2), u[i].radius95);
+      const double lambda = u[i].radius95 * u[i].radius95 / kChiSquare3At95;
+      const double total = std::sqrt(kChiSquare3At95 * (lambda + modelErrorVariance));
+      out_ << fmt::format(
+          "{},{:.9g},{},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", step,
+          time, i, p(r, 0), p(r, 1), p(r, 2), u[i].sigma(0), u[i].sigma(1), u[i].sigma(2),
+          u[i].radius95, std::sqrt(modelErrorVariance), total);
     }
     flushOrThrow(out_, path_);
     last_ = u;
@@ -333,11 +341,12 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
                        ": hidden_points: needs assimilation.state.positions: true (their "
                        "uncertainty comes from the covariance of the node positions)");
     hidden = std::make_unique<HiddenPointLog>(scene, dir);
-    hidden->add(0, 0.0, *models[0], *filter);
+    hidden->add(0, 0.0, *models[0], *filter, 0.0);
   }
 
   std::mt19937_64 rng(s.seed);
   std::vector<double> stepMs;
+  InnovationModelError modelError;
   const Eigen::Index P = layout.parameterCount();
   for (int step = 1; step <= scene.steps; ++step) {
     const double time = step * scene.dt();
@@ -363,7 +372,9 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
         validation->add(step, time, models[0]->positionsOf(scene.validation.points),
                         initialRun->positionsOf(scene.validation.points));
     }
-    if (hidden) hidden->add(step, time, *models[0], *filter);
+    modelError.add(report.innovationNorm, static_cast<long>(report.observed));
+    if (hidden)
+      hidden->add(step, time, *models[0], *filter, modelError.variance(s.observations.sigma));
     const double validationSeconds = secondsSince(v0);
     timing << fmt::format("{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{},{}\n",
                           step, time, 1e3 * report.seconds.forecast,

@@ -156,9 +156,12 @@ int LiverCommand::runAll() const {
   row("prior springs", r.prior);
   row("fixed ligament (baseline)", r.fixed);
   fmt::print("  thesis §5.1: estimated 2.1 ± 0.9 / 3.2 ± 1.6 mm, fixed 5.9 ± 3.6 / 9.9 ± 6.3 mm\n");
-  if (r.initialTumourRadius95Mm > 0)
-    fmt::print("tumours: 95 % radius {:.2f} mm after the first step, {:.2f} mm at the end\n",
-               r.initialTumourRadius95Mm, r.finalTumourRadius95Mm);
+  if (r.initialTumourRadius95Mm > 0 || r.finalTumourTotalRadius95Mm > 0)
+    fmt::print("tumours: 95 % radius from the parameters' uncertainty {:.3f} mm after the first "
+               "step, {:.3f} mm at the end; with the model error seen in the innovations {:.2f} mm "
+               "at the end, which holds the true tumour in {:.0f} % of the steps\n",
+               r.initialTumourRadius95Mm, r.finalTumourRadius95Mm, r.finalTumourTotalRadius95Mm,
+               100 * r.tumourCoverage);
   const double ms = r.assimilation.medianStepMs;
   fmt::print("assimilation: {} sigma points, median {:.1f} ms/step, real-time factor {:.2f} "
              "(dt {:.0f} ms; ≥ 1 is faster than real time), {:.0f} s in all\n",

@@ -171,7 +171,10 @@ std::string renderLiverPicture(const std::string& runDir, const std::string& png
   const fs::path hidden = dir / "estimate" / "hidden_points.csv";
   if (fs::exists(hidden)) {
     const CsvTable t = readCsvTable(hidden.string());
-    const int cs = t.column("step"), cx = t.column("x_m"), cr = t.column("radius95_m");
+    // The radius with the model error from the innovations where the file has it.
+    const int total = t.column("radius95_total_m");
+    const int cs = t.column("step"), cx = t.column("x_m"),
+              cr = total >= 0 ? total : t.column("radius95_m");
     for (Eigen::Index r = 0; r < t.rows.rows(); ++r)
       if (static_cast<int>(t.rows(r, cs)) == step) {
         const Vec3 c = t.rows.block<1, 3>(r, cx).transpose();

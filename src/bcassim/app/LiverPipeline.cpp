@@ -56,14 +56,35 @@ StepSeries trackErrors(const fs::path& model, const fs::path& truth) {
   return s;
 }
 
-// Mean 95 % radius of the tumours at a step of hidden_points.csv, mm.
-double meanRadiusAt(const CsvTable& t, int step) {
-  const int cs = t.column("step"), cr = t.column("radius95_m");
+// Mean of a 95 % radius column of hidden_points.csv over the tumours at a step, mm.
+double meanRadiusAt(const CsvTable& t, int step, const std::string& column) {
+  const int cs = t.column("step"), cr = t.column(column);
   double sum = 0;
   int n = 0;
   for (Eigen::Index r = 0; r < t.rows.rows(); ++r)
     if (static_cast<int>(t.rows(r, cs)) == step) sum += t.rows(r, cr), ++n;
   return n ? 1e3 * sum / n : 0.0;
+}
+
+// Fraction of (tumour, step >= 1) whose predicted position lies within its total 95 % radius of
+// the truth; -1 without truth.
+double tumourCoverage(const CsvTable& t, const fs::path& truthPath) {
+  if (!fs::exists(truthPath)) return -1;
+  const MarkerTracks truth = readMarkerTracks(truthPath.string());
+  const int cs = t.column("step"), cp = t.column("point"), cx = t.column("x_m"),
+            cr = t.column("radius95_total_m");
+  int inside = 0, n = 0;
+  for (Eigen::Index r = 0; r < t.rows.rows(); ++r) {
+    const auto step = static_cast<size_t>(t.rows(r, cs));
+    const auto point = static_cast<Eigen::Index>(t.rows(r, cp));
+    if (step < 1 || step >= truth.frames.size() || point >= truth.frames[step].rows()) continue;
+    const Vec3 predicted = t.rows.block<1, 3>(r, cx).transpose();
+    const Vec3 actual = truth.frames[step].row(point).transpose();
+    if (!actual.allFinite()) continue;
+    ++n;
+    if ((predicted - actual).norm() <= t.rows(r, cr)) ++inside;
+  }
+  return n ? static_cast<double>(inside) / n : -1;
 }
 
 }  // namespace
@@ -121,8 +142,10 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
   const fs::path hidden = dir / "estimate" / "hidden_points.csv";
   if (fs::exists(hidden)) {
     const CsvTable t = readCsvTable(hidden.string());
-    report.initialTumourRadius95Mm = meanRadiusAt(t, 1);
-    report.finalTumourRadius95Mm = meanRadiusAt(t, options.steps);
+    report.initialTumourRadius95Mm = meanRadiusAt(t, 1, "radius95_m");
+    report.finalTumourRadius95Mm = meanRadiusAt(t, options.steps, "radius95_m");
+    report.finalTumourTotalRadius95Mm = meanRadiusAt(t, options.steps, "radius95_total_m");
+    report.tumourCoverage = tumourCoverage(t, dir / "truth" / "hidden.csv");
   }
 
   {
@@ -147,6 +170,9 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
                          e->maxMm, e->maxStdMm, e->peakMm);
     out << fmt::format("# assimilation median step {:.6g} ms, dt {:.6g} s, truth max deformation {:.6g} mm\n",
                        report.assimilation.medianStepMs, options.dt, report.maxDeformationMm);
+    if (report.tumourCoverage >= 0)
+      out << fmt::format("# tumours: final 95 % radius {:.6g} mm (with model error), coverage {:.6g}\n",
+                         report.finalTumourTotalRadius95Mm, report.tumourCoverage);
   }
   return report;
 }

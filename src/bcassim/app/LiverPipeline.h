@@ -30,6 +30,10 @@ struct LiverReport {
   double maxDeformationMm = 0;      // of the truth's validation points
   double finalTumourRadius95Mm = 0;   // mean over tumours at the last step
   double initialTumourRadius95Mm = 0; // mean over tumours after the first step
+  // With the model error estimated from the innovations (InnovationModelError), at the last step.
+  double finalTumourTotalRadius95Mm = 0;
+  // Fraction of tumour positions over the steps within that radius of the truth (-1: no truth).
+  double tumourCoverage = -1;
 };
 
 struct LiverCallbacks {

@@ -78,15 +78,27 @@ void CubicSpringSet::addForcesAndStiffness(const TetMesh& mesh, const Eigen::Vec
     const Vec3 n = d / L;
     const double g = magnitude(k, dl);
     for (int a = 0; a < 4; ++a) f.segment<3>(3 * mesh.T(sp.tet, a)) += sp.weights(a) * g * n;
-    // d(g n)/dX = g' n n^T + g/L (I - n n^T); spread to the tet nodes by w_a w_b.
-    const Mat3 H = magnitudeDerivative(k, dl) * n * n.transpose() +
-                   g / L * (Mat3::Identity() - n * n.transpose());
+    const Mat3 H = attachmentStiffness(mesh, x, t, s);
     Mat12 block;
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b)
         block.block<3, 3>(3 * a, 3 * b) = (scale * sp.weights(a) * sp.weights(b)) * H;
     scatterTetBlock(pattern, sp.tet, block, K);
   }
+}
+
+Mat3 CubicSpringSet::attachmentStiffness(const TetMesh& mesh, const Eigen::VectorXd& x, double t,
+                                         size_t s) const {
+  const CubicSpring& sp = springs_[s];
+  const CubicSpringCoefficients k = activeCoefficients(sp.group, t);
+  const Vec3 d = attachment(mesh, x, s) - sp.anchor;
+  const double L = d.norm();
+  const double dl = L - sp.restLength;
+  if (dl <= 0.0) return Mat3::Zero();
+  const Vec3 n = d / L;
+  // d(g n)/dX = g' n n^T + g/L (I - n n^T)
+  return magnitudeDerivative(k, dl) * n * n.transpose() +
+         magnitude(k, dl) / L * (Mat3::Identity() - n * n.transpose());
 }
 
 }  // namespace bcassim

@@ -51,6 +51,9 @@ class CubicSpringSet {
   double cutTime(int group) const { return cutTime_[group]; }
   // Coefficients in force at time t (zero after a cut).
   CubicSpringCoefficients activeCoefficients(int group, double t) const;
+  // d(force on the attachment point)/d(attachment point) of spring s at x, t (N/m): zero when
+  // slack; spread to its tet's nodes by the barycentric weights w_a w_b.
+  Mat3 attachmentStiffness(const TetMesh& mesh, const Eigen::VectorXd& x, double t, size_t s) const;
   // Current attachment point of spring s, m.
   Vec3 attachment(const TetMesh& mesh, const Eigen::VectorXd& x, size_t s) const;
 

@@ -3,6 +3,46 @@
 #include <chrono>
 
 namespace bcassim {
+namespace {
+
+// Whether dof d is prescribed (sorted list).
+bool constrained(const std::vector<int>& dofs, int d) {
+  return std::binary_search(dofs.begin(), dofs.end(), d);
+}
+
+}  // namespace
+
+Eigen::VectorXd springGather(const MechanicalModel& model, const Eigen::VectorXd& v,
+                             bool eliminated) {
+  const auto& springs = model.springs.springs();
+  const auto& fixed = model.dirichlet.constrainedDofs();
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(springs.size()));
+  for (size_t s = 0; s < springs.size(); ++s)
+    for (int a = 0; a < 4; ++a) {
+      const int node = model.mesh->T(springs[s].tet, a);
+      for (int c = 0; c < 3; ++c) {
+        const int d = 3 * node + c;
+        if (eliminated && constrained(fixed, d)) continue;
+        out(3 * static_cast<Eigen::Index>(s) + c) += springs[s].weights(a) * v(d);
+      }
+    }
+  return out;
+}
+
+void springScatterAdd(const MechanicalModel& model, const Eigen::VectorXd& q, bool eliminated,
+                      Eigen::VectorXd& out) {
+  const auto& springs = model.springs.springs();
+  const auto& fixed = model.dirichlet.constrainedDofs();
+  for (size_t s = 0; s < springs.size(); ++s)
+    for (int a = 0; a < 4; ++a) {
+      const int node = model.mesh->T(springs[s].tet, a);
+      for (int c = 0; c < 3; ++c) {
+        const int d = 3 * node + c;
+        if (eliminated && constrained(fixed, d)) continue;
+        out(d) += springs[s].weights(a) * q(3 * static_cast<Eigen::Index>(s) + c);
+      }
+    }
+}
 
 std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel& model,
                                                           const MechanicalState& state, double dt,
@@ -10,10 +50,11 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel&
   const auto start = std::chrono::steady_clock::now();
   auto t = std::make_shared<FrozenTangent>();
   t->dt_ = dt;
+  t->stiffnessScale_ = dt * model.rayleighStiffness + dt * dt;
   Eigen::VectorXd f;
   model.internalForcesAndStiffness(state.t, state.x, f, t->K_);
   t->A_ = t->K_;
-  t->A_.coeffs() *= dt * model.rayleighStiffness + dt * dt;
+  t->A_.coeffs() *= t->stiffnessScale_;
   model.mass.addTo(*model.pattern, 1.0 + dt * model.rayleighMass, t->A_);
   SparseMatrix eliminated = t->A_;
   model.dirichlet.eliminateMatrix(eliminated);
@@ -24,6 +65,26 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel&
     t->factor_->analyzePattern(eliminated);
   }
   t->factor_->factorize(eliminated);
+  const auto factorized = std::chrono::steady_clock::now();
+
+  const auto& springs = model.springs.springs();
+  if (!springs.empty() && static_cast<int>(springs.size()) <= kMaxCorrectedSprings) {
+    const auto n = static_cast<Eigen::Index>(state.x.size());
+    const auto r = 3 * static_cast<Eigen::Index>(springs.size());
+    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, r);
+    for (Eigen::Index j = 0; j < r; ++j) {
+      Eigen::VectorXd unit = Eigen::VectorXd::Zero(r);
+      unit(j) = 1.0;
+      Eigen::VectorXd column = Eigen::VectorXd::Zero(n);
+      springScatterAdd(model, unit, true, column);
+      U.col(j) = column;
+    }
+    t->factor_->solve(U, t->Z_);
+    t->G_.resize(r, r);  // U^T Z from the few rows of Z that U touches
+    for (Eigen::Index j = 0; j < r; ++j) t->G_.col(j) = springGather(model, t->Z_.col(j), true);
+    for (size_t s = 0; s < springs.size(); ++s)
+      t->springBlocks_.push_back(model.springs.attachmentStiffness(*model.mesh, state.x, state.t, s));
+  }
   t->buildSeconds_ =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return t;

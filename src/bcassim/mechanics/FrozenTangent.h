@@ -1,8 +1,10 @@
 // The implicit-Euler matrix of one linearisation point, factorised once and shared read-only by
 // many integrations: the W of a linearly implicit (Rosenbrock-W) Euler step, e.g. the tangent at
-// a Kalman filter's mean used by all of its sigma points.
+// a Kalman filter's mean used by all of its sigma points. The ligament springs, whose stiffness
+// the estimated parameters change, can be made each step's own by a low-rank correction.
 #pragma once
 #include <memory>
+#include <vector>
 
 #include "bcassim/mechanics/MechanicalModel.h"
 #include "bcassim/mechanics/solvers/CholeskyFactor.h"
@@ -11,29 +13,55 @@ namespace bcassim {
 
 class FrozenTangent {
  public:
+  // Springs beyond this many get no correction (3 columns each in A^-1 U, built by block solves).
+  static constexpr int kMaxCorrectedSprings = 128;
+
   // Assembles K at (state.x, state.t) with the model as it is now (its parameters included),
   // forms A = (1 + dt zeta_M) M + (dt zeta_K + dt^2) K (eq. 2.16) and factorises A with the
-  // Dirichlet dofs eliminated. `analysis`, if given, is a factor whose symbolic analysis of the
-  // model's pattern is reused (no new ordering). dt in s. Throws NumericalError if A is not
-  // positive definite.
+  // Dirichlet dofs eliminated. With up to kMaxCorrectedSprings springs it also prepares their
+  // correction (see stepWithTangent). `analysis`, if given, is a factor whose symbolic analysis
+  // of the model's pattern is reused. dt in s. Throws NumericalError if A is not positive
+  // definite.
   static std::shared_ptr<const FrozenTangent> build(const MechanicalModel& model,
                                                     const MechanicalState& state, double dt,
                                                     const CholeskyFactor* analysis = nullptr);
 
   double dt() const { return dt_; }
+  // Multiplier of K in A: dt zeta_K + dt^2.
+  double stiffnessScale() const { return stiffnessScale_; }
   // K at the linearisation point (N/m), with the pattern's structure.
   const SparseMatrix& stiffness() const { return K_; }
   // A before Dirichlet elimination: its constrained columns move known values to a right-hand side.
   const SparseMatrix& systemMatrix() const { return A_; }
   // Factor of A with the Dirichlet rows and columns eliminated.
   const CholeskyFactor& factor() const { return *factor_; }
-  // Seconds spent building (assembly + factorisation), for timings.
+  // Seconds spent building (assembly, factorisation, spring correction), for timings.
   double buildSeconds() const { return buildSeconds_; }
 
+  // The springs' part of the stiffness as a low-rank term U blockdiag(H_s) U^T: column 3s + c of
+  // U spreads component c of spring s's attachment to its tet's nodes by the barycentric weights
+  // (rows of Dirichlet dofs zero). A step whose springs have blocks H_s' solves
+  // (A + h U D U^T) y = b with D = blockdiag(H_s' - H_s), h = stiffnessScale(), by Woodbury:
+  // y = A^-1 b - Z (I + h D G)^-1 h D U^T A^-1 b, Z = A^-1 U, G = U^T Z.
+  bool correctsSprings() const { return !springBlocks_.empty(); }
+  const std::vector<Mat3>& springBlocks() const { return springBlocks_; }  // H_s, N/m
+  const Eigen::MatrixXd& springSolutions() const { return Z_; }             // Z, n x 3S
+  const Eigen::MatrixXd& springGram() const { return G_; }                  // G, 3S x 3S
+
  private:
-  double dt_ = 0, buildSeconds_ = 0;
+  double dt_ = 0, stiffnessScale_ = 0, buildSeconds_ = 0;
   SparseMatrix K_, A_;
   std::shared_ptr<CholeskyFactor> factor_;
+  std::vector<Mat3> springBlocks_;
+  Eigen::MatrixXd Z_, G_;
 };
+
+// U^T v for the springs of `model` (3 entries per spring), skipping Dirichlet dofs when
+// `eliminated` (the U of the eliminated system).
+Eigen::VectorXd springGather(const MechanicalModel& model, const Eigen::VectorXd& v,
+                             bool eliminated);
+// out += U q (U as above; Dirichlet rows left alone when `eliminated`).
+void springScatterAdd(const MechanicalModel& model, const Eigen::VectorXd& q, bool eliminated,
+                      Eigen::VectorXd& out);
 
 }  // namespace bcassim

@@ -1,6 +1,7 @@
 #include "bcassim/mechanics/ImplicitEuler.h"
 
 #include <chrono>
+#include <Eigen/LU>
 #include <fmt/format.h>
 
 #include "bcassim/Error.h"
@@ -10,6 +11,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
+}
+
+// blockdiag(D_0, D_1, ...) v for D stacked as (3k x 3) blocks.
+Eigen::VectorXd blockDiagonalTimes(const Eigen::MatrixXd& D, const Eigen::VectorXd& v) {
+  Eigen::VectorXd out(v.size());
+  for (Eigen::Index b = 0; b < D.rows(); b += 3)
+    out.segment<3>(b) = D.middleRows<3>(b) * v.segment<3>(b);
+  return out;
 }
 }  // namespace
 
@@ -126,8 +135,20 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
   model.internalForces(s.t, s.x, fint_);
   model.externalForces(tNext, fext_);
   Kv_.noalias() = tangent.stiffness() * s.v;
+  // This state's own spring stiffness in place of the tangent's: blocks D_s = H_s' - H_s.
+  const bool correct = tangent.correctsSprings();
+  Eigen::MatrixXd D;
+  if (correct) {
+    const size_t springs = tangent.springBlocks().size();
+    D = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(springs), 3);
+    for (size_t k = 0; k < springs; ++k)
+      D.block<3, 3>(3 * static_cast<Eigen::Index>(k), 0) =
+          model.springs.attachmentStiffness(*model.mesh, s.x, s.t, k) - tangent.springBlocks()[k];
+    springScatterAdd(model, blockDiagonalTimes(D, springGather(model, s.v, false)), false, Kv_);
+  }
   model.mass.multiply(s.v, Mv_);
   rhs_ = h * (fext_ - fint_ - model.rayleighMass * Mv_ - (model.rayleighStiffness + h) * Kv_);
+  const double c = tangent.stiffnessScale();
   if (!bc.empty()) {
     const Eigen::VectorXd target = bc.targetPositions(rest_, tNext);
     knownDv_.resize(target.size());
@@ -135,12 +156,28 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
       const int d = bc.constrainedDofs()[k];
       knownDv_(k) = (target(k) - s.x(d)) / h - s.v(d);
     }
+    if (correct && knownDv_.any()) {  // the springs' share of the known columns
+      Eigen::VectorXd known = Eigen::VectorXd::Zero(rhs_.size()), moved = known;
+      for (Eigen::Index k = 0; k < knownDv_.size(); ++k) known(bc.constrainedDofs()[k]) = knownDv_(k);
+      springScatterAdd(model, blockDiagonalTimes(D, springGather(model, known, false)), false, moved);
+      rhs_ -= c * moved;
+    }
     bc.eliminateRightHandSide(tangent.systemMatrix(), rhs_, knownDv_);
   }
   timings_.assembly += seconds(t0, Clock::now());
 
   t0 = Clock::now();
   tangent.factor().solve(rhs_, dv_, factorWork_);
+  if (correct && D.any()) {
+    // Woodbury (FrozenTangent::springSolutions): dv -= Z (I + c D G)^-1 c D U^T dv.
+    const Eigen::MatrixXd& G = tangent.springGram();
+    Eigen::MatrixXd system = Eigen::MatrixXd::Identity(G.rows(), G.cols());
+    for (Eigen::Index b = 0; b < D.rows(); b += 3)
+      system.middleRows<3>(b) += c * D.middleRows<3>(b) * G.middleRows<3>(b);
+    const Eigen::VectorXd w =
+        system.partialPivLu().solve(c * blockDiagonalTimes(D, springGather(model, dv_, true)));
+    dv_.noalias() -= tangent.springSolutions() * w;
+  }
   ++timings_.linearSolves;
   timings_.lastSolve = {};
   timings_.solve += seconds(t0, Clock::now());

@@ -35,8 +35,11 @@ class ImplicitEuler {
   // parameters) in place of K(x): a one-stage Rosenbrock-W step. Forces are this state's own; no
   // tangent is assembled and nothing is factorised, so the step costs a force assembly and one
   // solve with the shared factor. Consistent (first order) for any tangent; the same as step()
-  // when the tangent is that of this state. Extra Newton iterations are not run. Throws
-  // InputError if the tangent was built for another dt, NumericalError as step().
+  // when the tangent is that of this state. If the tangent corrects springs
+  // (FrozenTangent::correctsSprings), the springs' stiffness is this state's own (with this
+  // model's coefficients), exactly, by a low-rank correction: only the elastic part is frozen.
+  // Extra Newton iterations are not run. Throws InputError if the tangent was built for another
+  // dt, NumericalError as step().
   void stepWithTangent(const MechanicalModel& model, MechanicalState& state,
                        const FrozenTangent& tangent);
 
