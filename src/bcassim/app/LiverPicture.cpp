@@ -1,6 +1,8 @@
 #include "bcassim/app/LiverPicture.h"
 
 #include <fmt/format.h>
+#include <fstream>
+#include <regex>
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
@@ -54,16 +56,29 @@ vtkSmartPointer<vtkActor> sphereActor(const Vec3& c, double radius, const Vec3& 
   return a;
 }
 
-// Frame (index into the written series) of the truth's largest validation displacement.
-int frameOfLargestDeformation(const fs::path& truthTracks, int every, int frames) {
+// Times (s) of the volume frames of a run's simulation.pvd (part 0), in file order.
+std::vector<double> frameTimes(const fs::path& pvd) {
+  std::vector<double> times;
+  std::ifstream in(pvd);
+  const std::regex entry(R"re(timestep="([^"]+)"[^>]*part="0")re");
+  std::smatch m;
+  for (std::string line; std::getline(in, line);)
+    if (std::regex_search(line, m, entry)) times.push_back(std::stod(m[1].str()));
+  return times;
+}
+
+// Index of the frame (times as written) nearest the truth's largest validation displacement.
+int frameOfLargestDeformation(const fs::path& truthTracks, const std::vector<double>& times) {
   const MarkerTracks t = readMarkerTracks(truthTracks.string());
-  int bestStep = 0;
-  double best = -1;
+  double bestTime = 0, best = -1;
   for (size_t k = 0; k < t.frames.size(); ++k) {
     const double d = (t.frames[k] - t.frames.front()).rowwise().norm().maxCoeff();
-    if (d > best) best = d, bestStep = static_cast<int>(k);
+    if (d > best) best = d, bestTime = t.times[k];
   }
-  return std::min(frames - 1, (bestStep + every / 2) / every);
+  int frame = 0;
+  for (size_t k = 1; k < times.size(); ++k)
+    if (std::abs(times[k] - bestTime) < std::abs(times[frame] - bestTime)) frame = static_cast<int>(k);
+  return frame;
 }
 
 int countFrames(const fs::path& dir) {
@@ -81,12 +96,14 @@ std::string renderLiverPicture(const std::string& runDir, const std::string& png
   const fs::path dir(runDir);
   for (const char* f : {"coarse.vtu", "fine.vtu", "anatomy.csv", "truth/validation.csv"})
     if (!fs::exists(dir / f)) return (dir / f).string() + " missing";
-  const int frames = std::min(countFrames(dir / "truth"), countFrames(dir / "estimated"));
-  if (frames == 0) return "no simulation frames in truth/ and estimated/";
-  // Both runs write every 20 steps (the scenes of `liver prepare`).
-  const int every = 20;
-  const int frame = frameOfLargestDeformation(dir / "truth" / "validation.csv", every, frames);
-  const int step = frame * every;
+  // Both runs write their frames at the same times (the scenes of `liver prepare`).
+  std::vector<double> times = frameTimes(dir / "estimated" / "simulation.pvd");
+  times.resize(std::min<size_t>(
+      times.size(),
+      static_cast<size_t>(std::min(countFrames(dir / "truth"), countFrames(dir / "estimated")))));
+  if (times.empty()) return "no simulation frames in truth/ and estimated/ (simulation.pvd)";
+  const int frame = frameOfLargestDeformation(dir / "truth" / "validation.csv", times);
+  const double frameTime = times[static_cast<size_t>(frame)];
 
   const TetMesh coarse = readTetMesh((dir / "coarse.vtu").string());
   const TetMesh fine = readTetMesh((dir / "fine.vtu").string());
@@ -167,16 +184,17 @@ std::string renderLiverPicture(const std::string& runDir, const std::string& png
     for (Eigen::Index i = 0; i < m.rows(); ++i)
       renderer->AddActor(sphereActor(m.row(i).transpose(), 0.0025, Vec3(0.1, 0.6, 0.1), 1.0));
   }
-  // Tumours: the filter's prediction at this step with its 95 % sphere, and the truth.
+  // Tumours: the filter's prediction at this frame's time with its 95 % sphere, and the truth.
+  const auto atFrameTime = [&](double t) { return std::abs(t - frameTime) < 1e-6; };
   const fs::path hidden = dir / "estimate" / "hidden_points.csv";
   if (fs::exists(hidden)) {
     const CsvTable t = readCsvTable(hidden.string());
     // The radius with the model error from the innovations where the file has it.
     const int total = t.column("radius95_total_m");
-    const int cs = t.column("step"), cx = t.column("x_m"),
+    const int ct = t.column("time_s"), cx = t.column("x_m"),
               cr = total >= 0 ? total : t.column("radius95_m");
     for (Eigen::Index r = 0; r < t.rows.rows(); ++r)
-      if (static_cast<int>(t.rows(r, cs)) == step) {
+      if (atFrameTime(t.rows(r, ct))) {
         const Vec3 c = t.rows.block<1, 3>(r, cx).transpose();
         renderer->AddActor(sphereActor(c, std::max(t.rows(r, cr), 5e-4), Vec3(1.0, 0.8, 0.0), 0.45));
         renderer->AddActor(sphereActor(c, 0.0015, Vec3(0.8, 0.5, 0.0), 1.0));
@@ -185,10 +203,11 @@ std::string renderLiverPicture(const std::string& runDir, const std::string& png
   const fs::path hiddenTruth = dir / "truth" / "hidden.csv";
   if (fs::exists(hiddenTruth)) {
     const MarkerTracks t = readMarkerTracks(hiddenTruth.string());
-    if (step < static_cast<int>(t.frames.size()))
-      for (Eigen::Index i = 0; i < t.frames[step].rows(); ++i)
-        renderer->AddActor(
-            sphereActor(t.frames[step].row(i).transpose(), 0.0015, Vec3(0.1, 0.1, 0.1), 1.0));
+    for (size_t k = 0; k < t.frames.size(); ++k)
+      if (atFrameTime(t.times[k]))
+        for (Eigen::Index i = 0; i < t.frames[k].rows(); ++i)
+          renderer->AddActor(
+              sphereActor(t.frames[k].row(i).transpose(), 0.0015, Vec3(0.1, 0.1, 0.1), 1.0));
   }
 
   vtkNew<vtkScalarBarActor> bar;
@@ -203,7 +222,7 @@ std::string renderLiverPicture(const std::string& runDir, const std::string& png
   caption->SetInput(fmt::format("estimated liver at t = {:.2f} s (largest deformation); brown: "
                                 "ligament springs; green: observed markers;\nyellow: tumour 95 % "
                                 "spheres (filter), black: true tumours",
-                                step * 0.02)
+                                frameTime)
                         .c_str());
   caption->GetTextProperty()->SetColor(0, 0, 0);
   caption->GetTextProperty()->SetFontSize(14);
