@@ -21,46 +21,15 @@
 #include "bcassim/atlas/Registration.h"
 #include "bcassim/atlas/RigidAlignment.h"
 #include "bcassim/io/SurfaceReader.h"
+#include "bcassim/mesh/MeshGenerators.h"
 
 namespace bcassim::bench {
 namespace {
 
 // Icosphere (20 * 4^level faces) scaled to a liver-sized ellipsoid (semi-axes in m).
 TriMesh ellipsoid(int level, const Eigen::Vector3d& axes) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (auto& p : v) p.normalize();
-  for (int l = 0; l < level; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back((v[a] + v[b]).normalized());
-      return mid[key] = static_cast<int>(v.size()) - 1;
-    };
-    std::vector<Eigen::Vector3i> g;
-    for (const auto& tri : f) {
-      const int a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]),
-                c = midpoint(tri[2], tri[0]);
-      g.push_back({tri[0], a, c});
-      g.push_back({tri[1], b, a});
-      g.push_back({tri[2], c, b});
-      g.push_back({a, b, c});
-    }
-    f = g;
-  }
-  TriMesh m;
-  m.V.resize(static_cast<Eigen::Index>(v.size()), 3);
-  m.F.resize(static_cast<Eigen::Index>(f.size()), 3);
-  for (size_t i = 0; i < v.size(); ++i) m.V.row(i) = v[i].cwiseProduct(axes).transpose();
-  for (size_t i = 0; i < f.size(); ++i) m.F.row(i) = f[i].transpose();
+  TriMesh m = makeIcosphereSurface(1.0, level);
+  m.V = m.V * axes.asDiagonal();
   return m;
 }
 

@@ -60,33 +60,13 @@ __attribute__((always_inline)) inline double hsum(Vd<W> v) {
 }
 
 // exp(-d2 * s) for d2 >= 0: the argument is clamped at kFastExpMin, then detail::fastExp's
-// algorithm on a vector (same polynomial, same accuracy).
+// algorithm on a vector (fastExpKernel: the same code).
 template <int W>
 __attribute__((always_inline)) inline Vd<W> gauss(Vd<W> d2, double s) {
   const Vd<W> minArg = Vd<W>{} + detail::kFastExpMin;
   Vd<W> x = -d2 * s;
   x = x < minArg ? minArg : x;
-  constexpr double kLog2e = 1.4426950408889634;
-  constexpr double kLn2Hi = 6.93147180369123816490e-01;
-  constexpr double kLn2Lo = 1.90821492927058770002e-10;
-  constexpr double kShifter = 6755399441055744.0;
-  const Vd<W> t = x * kLog2e + kShifter;
-  const Vd<W> k = t - kShifter;
-  const Vd<W> r = (x - k * kLn2Hi) - k * kLn2Lo;
-  Vd<W> p = r * (1.0 / 479001600.0) + 1.0 / 39916800.0;
-  p = p * r + 1.0 / 3628800.0;
-  p = p * r + 1.0 / 362880.0;
-  p = p * r + 1.0 / 40320.0;
-  p = p * r + 1.0 / 5040.0;
-  p = p * r + 1.0 / 720.0;
-  p = p * r + 1.0 / 120.0;
-  p = p * r + 1.0 / 24.0;
-  p = p * r + 1.0 / 6.0;
-  p = p * r + 0.5;
-  p = p * r + 1.0;
-  p = p * r + 1.0;
-  const Vi<W> bits = (__builtin_bit_cast(Vi<W>, t) + 1023) << 52;
-  return p * __builtin_bit_cast(Vd<W>, bits);
+  return detail::fastExpKernel<Vd<W>, Vi<W>>(x);
 }
 
 enum class Isa { Sse, Avx2, Avx512 };

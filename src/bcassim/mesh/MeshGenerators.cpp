@@ -248,6 +248,7 @@ TriMesh makeIcosphereSurface(double radius, int levels) {
   F << 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7,
       1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9,
       8, 1;
+  for (int i = 0; i < V.rows(); ++i) V.row(i).normalize();
   for (int level = 0; level < levels; ++level) {
     std::map<std::pair<int, int>, int> mid;
     std::vector<Eigen::RowVector3d> verts;
@@ -256,7 +257,7 @@ TriMesh makeIcosphereSurface(double radius, int levels) {
       const auto key = std::minmax(a, b);
       auto it = mid.find(key);
       if (it != mid.end()) return it->second;
-      verts.push_back(0.5 * (verts[a] + verts[b]));
+      verts.push_back((verts[a] + verts[b]).normalized());  // on the sphere at every level
       return mid[key] = static_cast<int>(verts.size()) - 1;
     };
     Eigen::MatrixX3i G(4 * F.rows(), 3);
@@ -272,7 +273,7 @@ TriMesh makeIcosphereSurface(double radius, int levels) {
     for (size_t i = 0; i < verts.size(); ++i) V.row(i) = verts[i];
     F = G;
   }
-  for (int i = 0; i < V.rows(); ++i) V.row(i) = radius * V.row(i).normalized();
+  V *= radius;
   return {V, F};
 }
 
