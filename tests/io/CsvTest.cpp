@@ -3,8 +3,10 @@
 
 #include <cmath>
 
+#include "bcassim/Error.h"
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/CsvTracks.h"
+#include "bcassim/io/CsvTruncate.h"
 #include "io/IoTestSupport.h"
 
 namespace bcassim {
@@ -39,6 +41,23 @@ TEST(MarkerTracks, FlushesEachFrame) {
   MarkerTrackWriter writer(dir.file("t.csv"));
   writer.write(0.5, Eigen::MatrixX3d::Ones(2, 3));
   EXPECT_EQ(test::readText(dir.file("t.csv")), "time,marker,x,y,z\n0.5,0,1,1,1\n0.5,1,1,1,1\n");
+}
+
+// Resuming a run: rows after the checkpoint and a last line a crash cut short are dropped, the
+// header kept, and writing continues after them.
+TEST(MarkerTracks, ResumedWriterKeepsRowsUpToTheCheckpoint) {
+  TempDir dir;
+  writeText(dir.file("t.csv"), "time,marker,x,y,z\n0.1,0,1,1,1\n0.2,0,2,2,2\n0.3,0,3,3,3\n0.3");
+  {
+    MarkerTrackWriter writer(dir.file("t.csv"), 0.2);
+    writer.write(0.3, Eigen::MatrixX3d::Constant(1, 3, 9.0));
+  }
+  EXPECT_EQ(test::readText(dir.file("t.csv")),
+            "time,marker,x,y,z\n0.1,0,1,1,1\n0.2,0,2,2,2\n0.3,0,9,9,9\n");
+  writeText(dir.file("u.csv"), "step,ms\n1,5\n2,6\n3,7");
+  keepCsvRowsUpTo(dir.file("u.csv"), 10);
+  EXPECT_EQ(test::readText(dir.file("u.csv")), "step,ms\n1,5\n2,6\n");
+  EXPECT_THROW(keepCsvRowsUpTo(dir.file("missing.csv"), 1), InputError);
 }
 
 TEST(MarkerTracks, NanCoordinate) {

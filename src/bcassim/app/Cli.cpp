@@ -48,7 +48,7 @@ void printError(const std::string& what) {
 
 std::string vec(const Vec3& v) { return fmt::format("[{:.6g}, {:.6g}, {:.6g}]", v(0), v(1), v(2)); }
 
-int simulate(const std::string& scenePath, const std::string& outDir, bool quiet) {
+int simulate(const std::string& scenePath, const std::string& outDir, bool quiet, bool resume) {
   const Scene scene = loadScene(scenePath);
   const TetMesh& mesh = *scene.model.mesh;
   fmt::print("scene {}: {} nodes, {} tets, {} markers, {} springs, {} steps of {:.6g} s{}\n",
@@ -61,7 +61,7 @@ int simulate(const std::string& scenePath, const std::string& outDir, bool quiet
   ProgressBar bar(stderr);
   ProgressCallback progress;
   if (!quiet) progress = [&bar](const RunProgress& p) { bar.update(p); };
-  const SimulationResult result = runSimulation(scene, outDir, progress);
+  const SimulationResult result = runSimulation(scene, outDir, progress, resume);
   bar.finish();
 
   for (const RunResult& r : result.runs)
@@ -189,6 +189,10 @@ int run(int argc, char** argv) {
   sim->add_option("-o,--out", outDir, "Output directory (created if missing)")
       ->capture_default_str();
   sim->add_flag("-q,--quiet", quiet, "No progress bar");
+  bool resume = false;
+  sim->add_flag("--resume", resume,
+                "Continue a stopped run in --out from its last checkpoint (written at every "
+                "output step)");
 
   bool noPlots = false;
   std::string estimatesPath;
@@ -227,7 +231,7 @@ int run(int argc, char** argv) {
     printError(std::string(e.what()) + " (see 'bcassim --help')");
     return kExitInput;
   }
-  if (sim->parsed()) return simulate(scenePath, outDir, quiet);
+  if (sim->parsed()) return simulate(scenePath, outDir, quiet, resume);
   if (info->parsed()) return meshInfo(meshPath, regionField);
   if (assim->parsed()) return assimilate(scenePath, "", outDir, quiet, !noPlots);
   if (val->parsed()) return assimilate(scenePath, estimatesPath, outDir, quiet, !noPlots);

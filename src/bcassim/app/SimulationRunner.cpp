@@ -9,8 +9,10 @@
 #include <map>
 
 #include "bcassim/Error.h"
+#include "bcassim/app/SimulationCheckpoint.h"
 #include "bcassim/app/StressField.h"
 #include "bcassim/io/CsvTracks.h"
+#include "bcassim/io/CsvTruncate.h"
 #include "bcassim/io/PvdSeries.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 
@@ -88,8 +90,15 @@ struct RunTrace {
   std::map<int, Eigen::MatrixX3d> markerDisplacements;
 };
 
+// What a checkpoint must match: the sizes, the time step and the integrator.
+std::string checkpointKey(const Scene& scene) {
+  return fmt::format("nodes {} tets {} dt {:.17g} {}", scene.model.mesh->numNodes(),
+                     scene.model.mesh->numTets(), scene.dt(),
+                     scene.integrator == IntegratorKind::Static ? "static" : "implicit-euler");
+}
+
 RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, RunProgress progress,
-                Clock::time_point started, const ProgressCallback& callback) {
+                Clock::time_point started, const ProgressCallback& callback, bool resume) {
   const Clock::time_point t0 = Clock::now();
   const MechanicalModel& model = scene.model;
   const bool statics = scene.integrator == IntegratorKind::Static;
@@ -102,6 +111,18 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
   std::filesystem::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": cannot create directory (" + ec.message() + ")");
   MechanicalState state = model.restState();
+  SimulationCheckpoint resumed;
+  if (resume) {
+    resumed = readSimulationCheckpoint(dir, checkpointKey(scene));
+    if (resumed.x.size() != state.x.size())
+      throw InputError(fmt::format("{}/checkpoint.bin: {} positions, the scene has {}", dir,
+                                   resumed.x.size(), state.x.size()));
+    state.x = resumed.x;
+    state.v = resumed.v;
+    state.t = resumed.t;
+    trace.result.maxNodeDisplacement = resumed.maxNodeDisplacement;
+    trace.result.maxMarkerDisplacement = resumed.maxMarkerDisplacement;
+  }
   std::unique_ptr<ImplicitEuler> dynamics;
   std::unique_ptr<StaticSolver> equilibrium;
   auto solver = makeLinearSolver(scene.solver.type, scene.solver.policy);
@@ -111,32 +132,50 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
     dynamics = std::make_unique<ImplicitEuler>(model, std::move(solver), scene.implicitEuler);
 
   const StressField stress(*model.mesh);
+  const std::filesystem::path out(dir);
   std::unique_ptr<PvdSeries> series;
   if (scene.output.pvd) {
-    series = std::make_unique<PvdSeries>(dir, "simulation");
-    writeFrame(scene, stress, state, markerPositions(scene, state.x), *series);
+    if (resume) {
+      series = std::make_unique<PvdSeries>(PvdSeries::resume(dir, "simulation", resumed.frames));
+    } else {
+      series = std::make_unique<PvdSeries>(dir, "simulation");
+      writeFrame(scene, stress, state, markerPositions(scene, state.x), *series);
+    }
   }
-  MarkerTrackWriter tracks((std::filesystem::path(dir) / "markers.csv").string());
+  // A resumed run keeps the rows up to the checkpoint's time and appends.
+  auto trackWriter = [&](const char* name) {
+    const std::string path = (out / name).string();
+    return resume ? std::make_unique<MarkerTrackWriter>(path, resumed.t)
+                  : std::make_unique<MarkerTrackWriter>(path);
+  };
+  const std::unique_ptr<MarkerTrackWriter> tracks = trackWriter("markers.csv");
   // The validation points' truth for assimilation runs; frame 0 (rest) gives their displacements.
   std::unique_ptr<MarkerTrackWriter> validation;
   if (!scene.validation.points.empty()) {
-    validation = std::make_unique<MarkerTrackWriter>(
-        (std::filesystem::path(dir) / "validation.csv").string());
-    validation->write(state.t, pointPositions(scene, scene.validation, state.x));
+    validation = trackWriter("validation.csv");
+    if (!resume) validation->write(state.t, pointPositions(scene, scene.validation, state.x));
   }
   std::unique_ptr<MarkerTrackWriter> hidden;
   if (!scene.hidden.points.empty()) {
-    hidden =
-        std::make_unique<MarkerTrackWriter>((std::filesystem::path(dir) / "hidden.csv").string());
-    hidden->write(state.t, pointPositions(scene, scene.hidden, state.x));
+    hidden = trackWriter("hidden.csv");
+    if (!resume) hidden->write(state.t, pointPositions(scene, scene.hidden, state.x));
   }
-  std::ofstream timing = openForWriting((std::filesystem::path(dir) / "timing.csv").string());
-  timing << (statics ? "step,time_s,total_ms,newton_iterations\n"
-                     : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations\n");
+  const std::string timingPath = (out / "timing.csv").string();
+  std::ofstream timing;
+  if (resume) {
+    keepCsvRowsUpTo(timingPath, resumed.step);
+    timing.open(timingPath, std::ios::app);
+    if (!timing) throw InputError(timingPath + ": cannot write file");
+  } else {
+    timing = openForWriting(timingPath);
+    timing << (statics ? "step,time_s,total_ms,newton_iterations\n"
+                       : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations\n");
+  }
 
   const Eigen::VectorXd rest = model.restPositions();
-  double stepSeconds = 0;
-  for (int step = 1; step <= scene.steps; ++step) {
+  double stepSeconds = resume ? resumed.stepSeconds : 0.0;
+  progress.step = resumed.step;
+  for (int step = resumed.step + 1; step <= scene.steps; ++step) {
     const Clock::time_point s0 = Clock::now();
     if (statics) {
       state.t = step * scene.dt();
@@ -162,7 +201,7 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
           std::max(trace.result.maxNodeDisplacement,
                    (state.x.segment<3>(3 * i) - rest.segment<3>(3 * i)).norm());
     const Eigen::MatrixX3d markers = markerPositions(scene, state.x);
-    tracks.write(state.t, markers);
+    tracks->write(state.t, markers);
     if (validation) validation->write(state.t, pointPositions(scene, scene.validation, state.x));
     if (hidden) hidden->write(state.t, pointPositions(scene, scene.hidden, state.x));
     const Eigen::MatrixX3d u = markers - scene.markers.rest;
@@ -172,6 +211,19 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
     const bool outputStep = step % scene.output.every == 0 || step == scene.steps;
     if (keepMarkers && outputStep) trace.markerDisplacements.emplace(step, u);
     if (series && outputStep) writeFrame(scene, stress, state, markers, *series);
+    if (outputStep) {  // everything up to this step is on disk: a run stopped later resumes here
+      timing.flush();
+      SimulationCheckpoint c;
+      c.step = step;
+      c.t = state.t;
+      c.x = state.x;
+      c.v = state.v;
+      c.frames = series ? series->numFrames() : 0;
+      c.maxNodeDisplacement = trace.result.maxNodeDisplacement;
+      c.maxMarkerDisplacement = trace.result.maxMarkerDisplacement;
+      c.stepSeconds = stepSeconds;
+      writeSimulationCheckpoint(dir, checkpointKey(scene), c);
+    }
 
     progress.step = step;
     ++progress.stepsDone;
@@ -182,7 +234,7 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
   timing.flush();
   if (!timing) throw InputError(dir + "/timing.csv: cannot write file");
   trace.result.frames = series ? series->numFrames() : 0;
-  trace.result.meanStepMs = 1e3 * stepSeconds / scene.steps;
+  trace.result.meanStepMs = scene.steps > 0 ? 1e3 * stepSeconds / scene.steps : 0.0;
   trace.result.wallSeconds = secondsSince(t0);
   return trace;
 }
@@ -219,8 +271,10 @@ void compareWithBase(const RunTrace& base, RunTrace& run) {
 }  // namespace
 
 SimulationResult runSimulation(const Scene& scene, const std::string& outDir,
-                               const ProgressCallback& progress) {
+                               const ProgressCallback& progress, bool resume) {
   const Clock::time_point started = Clock::now();
+  if (resume && !scene.variants.empty())
+    throw InputError(scene.sourceFile + ": --resume: not for scenes with variants (run again)");
   std::vector<const Scene*> scenes = {&scene};
   for (const Scene& v : scene.variants) scenes.push_back(&v);
 
@@ -237,7 +291,7 @@ SimulationResult runSimulation(const Scene& scene, const std::string& outDir,
     p.step = 0;
     const std::string dir =
         i == 0 ? outDir : (std::filesystem::path(outDir) / scenes[i]->name).string();
-    RunTrace trace = runOne(*scenes[i], dir, scenes.size() > 1, p, started, progress);
+    RunTrace trace = runOne(*scenes[i], dir, scenes.size() > 1, p, started, progress, resume);
     p.stepsDone += scenes[i]->steps;
     if (i == 0)
       base = trace;

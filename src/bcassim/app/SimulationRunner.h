@@ -52,7 +52,11 @@ struct SimulationResult {
 // and with variants, outDir/variants.csv (name, relative differences, mean step time).
 // progress (may be empty) is called after every step. Throws NumericalError when a step fails
 // (non-finite state, static equilibrium not reached) and InputError when a file cannot be written.
+//
+// A checkpoint (outDir/checkpoint.bin, SimulationCheckpoint.h) is written at every output step;
+// with `resume`, the run continues from it: the CSV files are cut back to its step and appended
+// to, the .pvd keeps its frames. Resuming is for scenes without variants (InputError otherwise).
 SimulationResult runSimulation(const Scene& scene, const std::string& outDir,
-                               const ProgressCallback& progress = {});
+                               const ProgressCallback& progress = {}, bool resume = false);
 
 }  // namespace bcassim

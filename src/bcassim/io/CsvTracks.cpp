@@ -7,6 +7,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/io/CsvTable.h"
+#include "bcassim/io/CsvTruncate.h"
 #include "bcassim/io/Files.h"
 
 namespace bcassim {
@@ -24,6 +25,12 @@ MarkerTrackWriter::MarkerTrackWriter(const std::string& path) : path_(path) {
   if (!out_) throw InputError(fmt::format("{}: cannot write file", path));
   out_ << "time,marker,x,y,z\n";
   out_.flush();
+  if (!out_) throw InputError(fmt::format("{}: cannot write file", path));
+}
+
+MarkerTrackWriter::MarkerTrackWriter(const std::string& path, double until) : path_(path) {
+  keepCsvRowsUpTo(path, until + 1e-9);
+  out_.open(path, std::ios::binary | std::ios::app);
   if (!out_) throw InputError(fmt::format("{}: cannot write file", path));
 }
 

@@ -15,6 +15,10 @@ class MarkerTrackWriter {
   // Creates the parent directory if missing, truncates `path` and writes the header.
   // Throws InputError when the file cannot be written.
   explicit MarkerTrackWriter(const std::string& path);
+  // Continues `path` (resumed runs): keeps its header and the rows up to time `until` (s; rows
+  // later than until + 1e-9 s are dropped), then appends. Throws InputError if it cannot be read
+  // or written.
+  MarkerTrackWriter(const std::string& path, double until);
 
   // Writes one row per marker (row i of `positions` is marker i), skipping rows holding NaN
   // (markers not seen in this frame), and flushes.

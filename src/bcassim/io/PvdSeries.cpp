@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -35,6 +36,39 @@ PvdSeries::PvdSeries(const std::string& directory, const std::string& baseName)
   if (ec || !std::filesystem::is_directory(directory))
     throw InputError(fmt::format("{}: cannot create output directory{}", directory,
                                  ec ? fmt::format(" ({})", ec.message()) : ""));
+}
+
+PvdSeries PvdSeries::resume(const std::string& directory, const std::string& baseName,
+                            int frames) {
+  PvdSeries series(directory, baseName);
+  const std::string path = series.pvdPath();
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot open (the series to resume)", path));
+  // Our own index: one <DataSet timestep=".." group="" part="N" file=".."/> per line.
+  const std::regex entry(R"re(timestep="([^"]+)"[^>]*part="(\d+)"[^>]*file="([^"]+)")re");
+  const std::regex frameNumber(R"re(_(\d{6})\.vt[up]$)re");
+  std::smatch m, f;
+  for (std::string line; std::getline(in, line);) {
+    if (!std::regex_search(line, m, entry)) continue;
+    const std::string file = m[3].str();
+    if (!std::regex_search(file, f, frameNumber) || std::stoi(f[1].str()) >= frames) continue;
+    const int part = std::stoi(m[2].str());
+    if (part > 0) {  // <base>_<part>_<frame>.vtp: register the part name under its index
+      const std::string name =
+          file.substr(baseName.size() + 1, file.size() - baseName.size() - 1 - 11);
+      if (static_cast<int>(series.parts_.size()) <= part) series.parts_.resize(part + 1);
+      series.parts_[part] = name;
+    } else {
+      ++series.numFrames_;
+    }
+    series.lastTime_ = std::stod(m[1].str());
+    series.entries_.push_back({series.lastTime_, part, file});
+  }
+  if (series.numFrames_ < frames)
+    throw InputError(fmt::format("{}: lists {} frames, expected at least {} (the checkpoint's)",
+                                 path, series.numFrames_, frames));
+  series.rewriteIndex();
+  return series;
 }
 
 std::string PvdSeries::pvdPath() const {

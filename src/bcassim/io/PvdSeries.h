@@ -29,6 +29,11 @@ class PvdSeries {
   void addPolyLines(const std::string& part, const Eigen::MatrixX3d& points,
                     const Eigen::MatrixX2i& segments, const FieldSet& fields = FieldSet());
 
+  // Continues the series already in `directory`: keeps the first `frames` frames listed in its
+  // .pvd (with their parts) and drops later ones, whose files the next frames overwrite. Throws
+  // InputError if the .pvd cannot be read or lists fewer frames.
+  static PvdSeries resume(const std::string& directory, const std::string& baseName, int frames);
+
   int numFrames() const { return numFrames_; }
   std::string pvdPath() const;
 

@@ -1,0 +1,42 @@
+#include "bcassim/io/CsvTruncate.h"
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bcassim/Error.h"
+
+namespace bcassim {
+
+void keepCsvRowsUpTo(const std::string& path, double limit) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open (a file of the run to resume)", path));
+  std::ostringstream kept;
+  for (std::string line; std::getline(in, line);) {
+    const bool complete = !in.eof();  // the last line of a killed run may lack its newline
+    const char* begin = line.c_str();
+    char* end = nullptr;
+    const double first = std::strtod(begin, &end);
+    const bool numeric = end != begin && (*end == ',' || *end == '\0');
+    if (!numeric) {
+      kept << line << '\n';
+    } else if (complete && first <= limit) {
+      kept << line << '\n';
+    }
+  }
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    const std::string text = kept.str();
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    if (!out) throw InputError(fmt::format("{}: cannot write file", temporary));
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) throw InputError(fmt::format("{}: cannot replace ({})", path, ec.message()));
+}
+
+}  // namespace bcassim
