@@ -89,6 +89,9 @@ LiverCommand::LiverCommand(CLI::App& app) {
   run_->add_flag("-q,--quiet", quiet_, "No progress bars");
   run_->add_flag("--no-plots", noPlots_, "Do not draw the PNG plots");
   run_->add_flag("--no-picture", noPicture_, "Do not render the liver picture");
+  run_->add_flag("--resume", resume_,
+                 "Continue a stopped run in --out: the ground truth, prior and baseline runs go on "
+                 "from their checkpoints");
 }
 
 int LiverCommand::run() const {
@@ -133,7 +136,7 @@ int LiverCommand::runAll() const {
     cb.simulation = [&](const RunProgress& p) { simBar.update(p); };
     cb.assimilation = [&](const AssimilationProgress& p) { assimBar.update(p); };
   }
-  const LiverReport r = runLiverPipeline(o, outDir_, cb);
+  const LiverReport r = runLiverPipeline(o, outDir_, cb, resume_);
   simBar.finish();
   assimBar.finish();
   printScenario(r.scenario);

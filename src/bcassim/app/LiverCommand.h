@@ -25,7 +25,7 @@ class LiverCommand {
   CLI::App* run_ = nullptr;
   std::string surface_, outDir_ = "out/liver";
   LiverScenarioOptions options_;
-  bool quiet_ = false, noPlots_ = false, noPicture_ = false;
+  bool quiet_ = false, noPlots_ = false, noPicture_ = false, resume_ = false;
 };
 
 // A liver given by name (LiTS-3, 3Dircadb-18) is $BCASSIM_DATA/livers/<name>.obj, the data

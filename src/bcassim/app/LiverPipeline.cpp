@@ -90,8 +90,12 @@ double tumourCoverage(const CsvTable& t, const fs::path& truthPath) {
 }  // namespace
 
 LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::string& outDir,
-                             const LiverCallbacks& cb) {
+                             const LiverCallbacks& cb, bool resume) {
   const fs::path dir(outDir);
+  // Forward runs that do not depend on the estimates continue from their checkpoints.
+  auto resumable = [&](const char* run) {
+    return resume && fs::exists(dir / run / "checkpoint.bin");
+  };
   auto stage = [&](const std::string& s) {
     if (cb.stage) cb.stage(s);
   };
@@ -101,7 +105,8 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
 
   stage("truth");
   const Scene truth = loadScene((dir / "truth.yaml").string());
-  report.truth = runSimulation(truth, (dir / "truth").string(), cb.simulation);
+  report.truth =
+      runSimulation(truth, (dir / "truth").string(), cb.simulation, resumable("truth"));
 
   stage("estimate");
   const Scene estimate = loadScene((dir / "estimate.yaml").string());
@@ -119,11 +124,13 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
   Scene prior = loadScene((dir / "estimate.yaml").string());
   prior.assimilation.reset();
   prior.output.pvd = false;
-  report.priorRun = runSimulation(prior, (dir / "prior").string(), cb.simulation);
+  report.priorRun =
+      runSimulation(prior, (dir / "prior").string(), cb.simulation, resumable("prior"));
 
   stage("baseline");
   const Scene baseline = loadScene((dir / "baseline.yaml").string());
-  report.baseline = runSimulation(baseline, (dir / "baseline").string(), cb.simulation);
+  report.baseline =
+      runSimulation(baseline, (dir / "baseline").string(), cb.simulation, resumable("baseline"));
 
   const fs::path truthTracks = dir / "truth" / "validation.csv";
   const StepSeries est = trackErrors(dir / "estimated" / "validation.csv", truthTracks);

@@ -47,7 +47,11 @@ struct LiverCallbacks {
 // outDir/errors_over_time.csv (step,time_s,estimated_mean_mm,estimated_max_mm,prior_mean_mm,
 // prior_max_mm,fixed_mean_mm,fixed_max_mm) and outDir/summary.csv. Throws InputError,
 // NumericalError.
+// With `resume`, the forward runs that do not depend on the estimates (truth, prior, baseline)
+// continue from their checkpoints (simulate --resume); the meshes and scenes are made again
+// (deterministically: a checkpoint of other meshes is refused), the assimilation and the run
+// with the estimates are redone.
 LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::string& outDir,
-                             const LiverCallbacks& callbacks = {});
+                             const LiverCallbacks& callbacks = {}, bool resume = false);
 
 }  // namespace bcassim
