@@ -11,6 +11,7 @@
 #   BENCH_OUT               output folder (default out/bench)
 #   BCASSIM_BENCH_THREADS   threads for TBB and CHOLMOD's OpenMP (default 1: targets are per core)
 #   BENCH_SUMMARY_ONLY=1    only print the summary of the JSON already in BENCH_OUT
+# bench_liver_step is a driver of whole assimilation runs: its table goes to BENCH_OUT/*.md.
 set -euo pipefail
 
 BUILD=${1:-build}
@@ -47,6 +48,12 @@ cat "$OUT/machine.txt"
 
 for exe in "${exes[@]}"; do
   name=$(basename "$exe")
+  if [[ $name == bench_liver_step ]]; then  # a driver of whole runs, not Google Benchmark
+    echo
+    echo "=== $name (phantom liver, 100 steps per configuration) ==="
+    "$exe" phantom 100 "$OUT" | tee "$OUT/$name.md"
+    continue
+  fi
   echo
   echo "=== $name (repetitions $REPS, filter '$FILTER') ==="
   "$exe" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
