@@ -55,11 +55,19 @@ Row measure(const std::filesystem::path& dir, const std::string& mode, int threa
   const std::filesystem::path out = dir / "bench" / fmt::format("{}-{}", mode, threads);
   bcassim::runAssimilation(scene, out.string());
   const bcassim::CsvTable t = bcassim::readCsvTable((out / "timing.csv").string());
-  auto column = [&](const std::string& name) {
+  auto values = [&](const std::string& name) {
     const int c = t.column(name);
     std::vector<double> v;
     for (Eigen::Index r = 5; r < t.rows.rows(); ++r) v.push_back(t.rows(r, c));
-    return median(v);
+    return v;
+  };
+  auto column = [&](const std::string& name) { return median(values(name)); };
+  // Tangents are built every few steps: their cost per step is the mean, not the median.
+  auto perStep = [&](const std::string& name) {
+    const std::vector<double> v = values(name);
+    double sum = 0;
+    for (double x : v) sum += x;
+    return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
   };
   return {mode,
           threads,
@@ -68,7 +76,7 @@ Row measure(const std::filesystem::path& dir, const std::string& mode, int threa
           column("correction_ms"),
           column("assembly_cpu_ms"),
           column("solve_cpu_ms"),
-          column("tangent_cpu_ms"),
+          perStep("tangent_cpu_ms"),
           column("linear_iterations")};
 }
 
@@ -99,7 +107,7 @@ int main(int argc, char** argv) {
         "6..{}\n\n",
         liver, scenario.coarse.outputNodes, steps, steps);
     std::cout << "| tangent | threads | step (ms) | forecast | correction | assembly CPU | solve CPU "
-                 "| tangent CPU | PCG its / sigma point | vs own, 1 thread |\n"
+                 "| tangent CPU (mean per step) | PCG its / sigma point | vs own, 1 thread |\n"
                  "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const Row& r : rows)
       std::cout << fmt::format(

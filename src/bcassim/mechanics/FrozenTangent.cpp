@@ -58,6 +58,7 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel&
   model.mass.addTo(*model.pattern, 1.0 + dt * model.rayleighMass, t->A_);
   SparseMatrix eliminated = t->A_;
   model.dirichlet.eliminateMatrix(eliminated);
+  const auto assembled = std::chrono::steady_clock::now();
   if (analysis != nullptr && analysis->isAnalyzed() && analysis->matchesPattern(eliminated)) {
     t->factor_ = analysis->cloneAnalysis();
   } else {
@@ -85,8 +86,12 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel&
     for (size_t s = 0; s < springs.size(); ++s)
       t->springBlocks_.push_back(model.springs.attachmentStiffness(*model.mesh, state.x, state.t, s));
   }
-  t->buildSeconds_ =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto end = std::chrono::steady_clock::now();
+  auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+  t->assemblySeconds_ = seconds(start, assembled);
+  t->factorizationSeconds_ = seconds(assembled, factorized);
+  t->springSeconds_ = seconds(factorized, end);
+  t->buildSeconds_ = seconds(start, end);
   return t;
 }
 

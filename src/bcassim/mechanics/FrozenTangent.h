@@ -37,6 +37,11 @@ class FrozenTangent {
   const CholeskyFactor& factor() const { return *factor_; }
   // Seconds spent building (assembly, factorisation, spring correction), for timings.
   double buildSeconds() const { return buildSeconds_; }
+  // The parts of buildSeconds(): stiffness assembly and system matrix, numerical factorisation,
+  // the spring correction (A^-1 U by a block solve, G).
+  double assemblySeconds() const { return assemblySeconds_; }
+  double factorizationSeconds() const { return factorizationSeconds_; }
+  double springSeconds() const { return springSeconds_; }
 
   // The springs' part of the stiffness as a low-rank term U blockdiag(H_s) U^T: column 3s + c of
   // U spreads component c of spring s's attachment to its tet's nodes by the barycentric weights
@@ -50,6 +55,7 @@ class FrozenTangent {
 
  private:
   double dt_ = 0, stiffnessScale_ = 0, buildSeconds_ = 0;
+  double assemblySeconds_ = 0, factorizationSeconds_ = 0, springSeconds_ = 0;
   SparseMatrix K_, A_;
   std::shared_ptr<CholeskyFactor> factor_;
   std::vector<Mat3> springBlocks_;
