@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "bcassim/Error.h"
+#include "bcassim/io/CsvTruncate.h"
 
 namespace bcassim {
 
@@ -37,6 +38,14 @@ EstimatesWriter::EstimatesWriter(const std::string& path, std::vector<std::strin
   out_.open(path);
   if (!out_) throw InputError(path + ": cannot write file");
   out_ << kHeader << '\n';
+}
+
+EstimatesWriter::EstimatesWriter(const std::string& path, std::vector<std::string> names,
+                                 int resumeStep)
+    : path_(path), names_(std::move(names)) {
+  keepCsvRowsUpTo(path, resumeStep);
+  out_.open(path, std::ios::app);
+  if (!out_) throw InputError(path + ": cannot write file");
 }
 
 void EstimatesWriter::write(int step, double time, const Eigen::VectorXd& mean,

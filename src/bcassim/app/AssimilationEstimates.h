@@ -14,6 +14,8 @@ class EstimatesWriter {
  public:
   // Truncates `path`, writes the header. Throws InputError if it cannot be written.
   EstimatesWriter(const std::string& path, std::vector<std::string> names);
+  // Resumed runs: keeps the rows of steps up to `resumeStep` and appends.
+  EstimatesWriter(const std::string& path, std::vector<std::string> names, int resumeStep);
   // One row per parameter, then a flush, so a killed run leaves every finished step.
   void write(int step, double time, const Eigen::VectorXd& mean, const Eigen::VectorXd& stddev);
 

@@ -1,5 +1,4 @@
 #include "bcassim/app/AssimilationRunner.h"
-#include "bcassim/app/InnovationModelError.h"
 
 #include <fmt/format.h>
 
@@ -10,10 +9,14 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <random>
+#include <sstream>
 
 #include "bcassim/Error.h"
+#include "bcassim/app/AssimilationCheckpoint.h"
 #include "bcassim/app/AssimilationEstimates.h"
+#include "bcassim/app/InnovationModelError.h"
 #include "bcassim/app/MechanicalForecastModel.h"
 #include "bcassim/app/ParameterForwardRun.h"
 #include "bcassim/app/PointUncertainty.h"
@@ -22,6 +25,7 @@
 #include "bcassim/assimilation/RoukfFilter.h"
 #include "bcassim/assimilation/ThreadPoolExecutor.h"
 #include "bcassim/assimilation/UkfFilter.h"
+#include "bcassim/io/CsvTruncate.h"
 
 namespace bcassim {
 
@@ -91,18 +95,59 @@ std::string describeEstimate(const std::vector<ParameterResult>& parameters) {
   return text;
 }
 
+// What a checkpoint must match: sizes, time step, filter and the estimated parameters.
+std::string checkpointKey(const Scene& scene, const StochasticState& layout) {
+  const AssimilationSettings& s = *scene.assimilation;
+  std::string names;
+  for (const EstimatedParameter& p : s.parameters) names += " " + p.name;
+  return fmt::format("nodes {} dt {:.17g} filter {} state {} parameters{}",
+                     scene.model.mesh->numNodes(), scene.dt(), static_cast<int>(s.filter),
+                     layout.size(), names);
+}
+
+// A per-step CSV file: new with its header, or, resuming after step k, cut back to the rows of
+// steps <= k and appended to.
+std::ofstream openCsv(const std::filesystem::path& path, const char* header,
+                      std::optional<int> resumeStep) {
+  if (!resumeStep) {
+    std::ofstream out = openForWriting(path);
+    out << header << '\n';
+    return out;
+  }
+  keepCsvRowsUpTo(path.string(), *resumeStep);
+  std::ofstream out(path, std::ios::app);
+  if (!out) throw InputError(path.string() + ": cannot write file");
+  return out;
+}
+
 // Per-step validation errors of the estimated and the initial model against the truth, written
 // as errors.csv, with the summaries over all steps and over the free run.
 class ValidationLog {
  public:
-  ValidationLog(const Scene& scene, const std::filesystem::path& dir)
+  ValidationLog(const Scene& scene, const std::filesystem::path& dir,
+                std::optional<int> resumeStep)
       : truth_(*scene.assimilation->validationTruth),
         untilStep_(scene.assimilation->observations.untilStep),
         path_(dir / "errors.csv"),
-        out_(openForWriting(path_)) {
+        out_(openCsv(path_,
+                     "step,time_s,estimated_mean_mm,estimated_max_mm,estimated_mean_pct,"
+                     "estimated_max_pct,initial_mean_mm,initial_max_mm,initial_mean_pct,"
+                     "initial_max_pct",
+                     resumeStep)) {
     D_ = maxDeformation(truth_, scene.validation.rest);
-    out_ << "step,time_s,estimated_mean_mm,estimated_max_mm,estimated_mean_pct,"
-            "estimated_max_pct,initial_mean_mm,initial_max_mm,initial_mean_pct,initial_max_pct\n";
+  }
+
+  // For checkpoints: the four accumulators, 4 numbers each.
+  Eigen::MatrixXd saved() const {
+    Eigen::MatrixXd m(4, 4);
+    const ErrorSummary* all[] = {&estimated_[0], &estimated_[1], &initial_[0], &initial_[1]};
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) m(i, j) = all[i]->saved()[static_cast<size_t>(j)];
+    return m;
+  }
+  void restore(const Eigen::MatrixXd& m) {
+    ErrorSummary* all[] = {&estimated_[0], &estimated_[1], &initial_[0], &initial_[1]};
+    for (int i = 0; i < 4; ++i) all[i]->restore({m(i, 0), m(i, 1), m(i, 2), m(i, 3)});
   }
 
   bool hasTruth(int step) const { return truth_.present[static_cast<size_t>(step)]; }
@@ -167,11 +212,14 @@ class ValidationLog {
 // filter's covariance, written as hidden_points.csv.
 class HiddenPointLog {
  public:
-  HiddenPointLog(const Scene& scene, const std::filesystem::path& dir)
-      : scene_(scene), path_(dir / "hidden_points.csv"), out_(openForWriting(path_)) {
-    out_ << "step,time_s,point,x_m,y_m,z_m,sigma_x_m,sigma_y_m,sigma_z_m,radius95_m,"
-            "model_error_sigma_m,radius95_total_m\n";
-  }
+  HiddenPointLog(const Scene& scene, const std::filesystem::path& dir,
+                 std::optional<int> resumeStep)
+      : scene_(scene),
+        path_(dir / "hidden_points.csv"),
+        out_(openCsv(path_,
+                     "step,time_s,point,x_m,y_m,z_m,sigma_x_m,sigma_y_m,sigma_z_m,radius95_m,"
+                     "model_error_sigma_m,radius95_total_m",
+                     resumeStep)) {}
 
   // modelErrorVariance: q (m^2) of InnovationModelError, added isotropically to the covariance
   // for radius95_total (the eigenvalues shift by q).
@@ -267,7 +315,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
 }  // namespace
 
 AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir,
-                                   const AssimilationCallback& progress) {
+                                   const AssimilationCallback& progress, bool resume) {
   const Clock::time_point started = Clock::now();
   const AssimilationSettings& s = settingsOf(scene);
   const std::filesystem::path dir(outDir);
@@ -313,24 +361,39 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
   result.steps = scene.steps;
   result.parameters = initialParameters(s);
   writeParameters(dir / "parameters.csv", result.parameters);
+
+  const std::string checkpointPath = (dir / "checkpoint.bin").string();
+  const std::string key = checkpointKey(scene, layout);
+  std::optional<AssimilationCheckpoint> resumed;
+  if (resume) resumed = readAssimilationCheckpoint(checkpointPath, key);
+  const std::optional<int> resumeStep =
+      resumed ? std::optional<int>(resumed->step) : std::nullopt;
+
   std::vector<std::string> names;
   for (const EstimatedParameter& p : s.parameters) names.push_back(p.name);
-  EstimatesWriter estimates((dir / "estimates.csv").string(), names);
-  {
+  std::unique_ptr<EstimatesWriter> estimates;
+  if (resumeStep) {
+    estimates = std::make_unique<EstimatesWriter>((dir / "estimates.csv").string(), names,
+                                                  *resumeStep);
+  } else {
+    estimates = std::make_unique<EstimatesWriter>((dir / "estimates.csv").string(), names);
     Eigen::VectorXd mean, sd;
     layout.toReported(layout.initialMean(), layout.initialStddev(), mean, sd);
-    estimates.write(0, 0.0, mean.tail(layout.parameterCount()), sd.tail(layout.parameterCount()));
+    estimates->write(0, 0.0, mean.tail(layout.parameterCount()), sd.tail(layout.parameterCount()));
   }
   const std::filesystem::path filterPath = dir / "filter.csv", timingPath = dir / "timing.csv";
-  std::ofstream filterCsv = openForWriting(filterPath), timing = openForWriting(timingPath);
-  filterCsv << "step,time_s,observed_entries,innovation_norm_m,covariance_repairs\n";
-  timing << "step,time_s,forecast_ms,correction_ms,total_ms,validation_ms,assembly_cpu_ms,"
-            "solve_cpu_ms,tangent_cpu_ms,linear_iterations,factorizations,tangent_failures\n";
+  std::ofstream filterCsv = openCsv(
+      filterPath, "step,time_s,observed_entries,innovation_norm_m,covariance_repairs", resumeStep);
+  std::ofstream timing = openCsv(
+      timingPath,
+      "step,time_s,forecast_ms,correction_ms,total_ms,validation_ms,assembly_cpu_ms,"
+      "solve_cpu_ms,tangent_cpu_ms,linear_iterations,factorizations,tangent_failures",
+      resumeStep);
 
   std::unique_ptr<ValidationLog> validation;
   std::unique_ptr<ParameterForwardRun> initialRun;
   if (s.validationTruth) {
-    validation = std::make_unique<ValidationLog>(scene, dir);
+    validation = std::make_unique<ValidationLog>(scene, dir, resumeStep);
     initialRun = std::make_unique<ParameterForwardRun>(scene, s.parameters, initialValues(s));
   }
 
@@ -340,22 +403,46 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
       throw InputError(scene.sourceFile +
                        ": hidden_points: needs assimilation.state.positions: true (their "
                        "uncertainty comes from the covariance of the node positions)");
-    hidden = std::make_unique<HiddenPointLog>(scene, dir);
-    hidden->add(0, 0.0, *models[0], *filter, 0.0);
+    hidden = std::make_unique<HiddenPointLog>(scene, dir, resumeStep);
+    if (!resumeStep) hidden->add(0, 0.0, *models[0], *filter, 0.0);
   }
 
   std::mt19937_64 rng(s.seed);
   std::vector<double> stepMs;
   InnovationModelError modelError;
+  int firstStep = 1;
+  if (resumed) {
+    const AssimilationCheckpoint& c = *resumed;
+    try {
+      filter->restoreState(c.filter);
+    } catch (const std::invalid_argument&) {
+      throw InputError(checkpointPath + ": the filter's state does not fit this scene");
+    }
+    Eigen::VectorXd params;
+    layout.physicalParameters(filter->mean(), params);
+    for (const auto& m : models) m->restoreReference(c.reference, params);
+    if (initialRun) initialRun->restore(c.initialRun, c.initialRunSteps);
+    if (validation) validation->restore(c.errorSummaries);
+    std::istringstream(c.rng) >> rng;
+    modelError.restore(c.innovationSumSquares, c.innovationEntries);
+    stepMs = c.stepMs;
+    result.observedSteps = c.observedSteps;
+    result.tangentFailures = c.tangentFailures;
+    for (size_t i = 0; i < result.parameters.size(); ++i) {
+      result.parameters[i].mean = c.parameters(static_cast<Eigen::Index>(i), 0);
+      result.parameters[i].stddev = c.parameters(static_cast<Eigen::Index>(i), 1);
+    }
+    firstStep = c.step + 1;
+  }
   const Eigen::Index P = layout.parameterCount();
-  for (int step = 1; step <= scene.steps; ++step) {
+  for (int step = firstStep; step <= scene.steps; ++step) {
     const double time = step * scene.dt();
     const Observation y = observationAt(s.observations, step, rng);
     const FilterStepReport report = filter->step(y);
     ForecastStats cost;
     for (const auto& m : models) cost += m->takeStats();
     const Eigen::VectorXd mean = report.mean.tail(P), sd = report.stddev.tail(P);
-    estimates.write(step, time, mean, sd);
+    estimates->write(step, time, mean, sd);
     for (Eigen::Index i = 0; i < P; ++i) {
       result.parameters[static_cast<size_t>(i)].mean = mean(i);
       result.parameters[static_cast<size_t>(i)].stddev = sd(i);
@@ -388,6 +475,30 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
     result.tangentFailures += cost.tangentFailures;
     flushOrThrow(timing, timingPath);
     stepMs.push_back(1e3 * report.seconds.total);
+    if (step % scene.output.every == 0 || step == scene.steps) {
+      // Every file above holds this step: a run stopped later resumes here.
+      AssimilationCheckpoint c;
+      c.step = step;
+      c.filter = filter->saveState();
+      c.reference = models[0]->reference();
+      if (initialRun) {
+        c.initialRun = initialRun->state();
+        c.initialRunSteps = initialRun->steps();
+      }
+      if (validation) c.errorSummaries = validation->saved();
+      std::ostringstream generator;
+      generator << rng;
+      c.rng = generator.str();
+      c.innovationSumSquares = modelError.sumSquares();
+      c.innovationEntries = modelError.entries();
+      c.stepMs = stepMs;
+      c.observedSteps = result.observedSteps;
+      c.tangentFailures = result.tangentFailures;
+      c.parameters.resize(P, 2);
+      for (Eigen::Index i = 0; i < P; ++i)
+        c.parameters.row(i) << mean(i), sd(i);
+      writeAssimilationCheckpoint(checkpointPath, key, c);
+    }
 
     if (progress) {
       AssimilationProgress p;
@@ -432,7 +543,7 @@ AssimilationResult runValidation(const Scene& scene, const std::string& estimate
   }
   const std::filesystem::path dir(outDir);
   writeParameters(dir / "parameters.csv", result.parameters);
-  ValidationLog validation(scene, dir);
+  ValidationLog validation(scene, dir, std::nullopt);
   ParameterForwardRun estimated(scene, s.parameters, values);
   ParameterForwardRun initial(scene, s.parameters, initialValues(s));
   const std::filesystem::path timingPath = dir / "timing.csv";

@@ -61,8 +61,11 @@ struct AssimilationResult {
 //   timing.csv      step,time_s,forecast_ms,correction_ms,total_ms,validation_ms
 //   errors.csv, errors_summary.csv  with validation tracks (docs/assimilation-format.md)
 // Per-step files are flushed every step. Throws InputError (files), NumericalError (divergence).
+//   checkpoint.bin  the run's state at every output step (output.every), replaced atomically;
+//                   with `resume` the run continues from it: the CSV files are cut back to its
+//                   step and appended to (AssimilationCheckpoint.h).
 AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir,
-                                   const AssimilationCallback& progress = {});
+                                   const AssimilationCallback& progress = {}, bool resume = false);
 
 // Forward run over the whole horizon with the last values of estimates.csv (estimatesPath),
 // compared with the truth validation tracks and with the initial parameters; writes

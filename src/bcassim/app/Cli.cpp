@@ -134,7 +134,7 @@ void printSummary(const AssimilationResult& r, bool assimilated) {
 }
 
 int assimilate(const std::string& scenePath, const std::string& estimatesPath,
-               const std::string& outDir, bool quiet, bool plots) {
+               const std::string& outDir, bool quiet, bool plots, bool resume) {
   const Scene scene = loadScene(scenePath);
   if (!scene.assimilation)
     throw InputError(scenePath + ": no assimilation: section (see docs/assimilation-format.md)");
@@ -148,7 +148,7 @@ int assimilate(const std::string& scenePath, const std::string& estimatesPath,
   if (!quiet) progress = [&bar](const AssimilationProgress& p) { bar.update(p); };
   const AssimilationResult result = validating
                                         ? runValidation(scene, estimatesPath, outDir, progress)
-                                        : runAssimilation(scene, outDir, progress);
+                                        : runAssimilation(scene, outDir, progress, resume);
   bar.finish();
   printSummary(result, !validating);
   if (plots) plot(outDir);
@@ -203,6 +203,10 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   assim->add_flag("-q,--quiet", quiet, "No progress bar");
   assim->add_flag("--no-plots", noPlots, "Do not draw the PNG plots");
+  bool resumeAssimilation = false;
+  assim->add_flag("--resume", resumeAssimilation,
+                  "Continue a stopped run in --out from its last checkpoint (written every "
+                  "output.every steps)");
   CLI::App* val = app.add_subcommand(
       "validate", "Forward run with estimated parameters against the truth validation tracks");
   val->add_option("scene", scenePath, "Scene file with an assimilation: section")->required();
@@ -233,8 +237,9 @@ int run(int argc, char** argv) {
   }
   if (sim->parsed()) return simulate(scenePath, outDir, quiet, resume);
   if (info->parsed()) return meshInfo(meshPath, regionField);
-  if (assim->parsed()) return assimilate(scenePath, "", outDir, quiet, !noPlots);
-  if (val->parsed()) return assimilate(scenePath, estimatesPath, outDir, quiet, !noPlots);
+  if (assim->parsed())
+    return assimilate(scenePath, "", outDir, quiet, !noPlots, resumeAssimilation);
+  if (val->parsed()) return assimilate(scenePath, estimatesPath, outDir, quiet, !noPlots, false);
   if (liver.parsed()) return liver.run();
   return kExitInput;
 }

@@ -21,6 +21,14 @@ class InnovationModelError {
     return std::max(0.0, sumSquares_ / static_cast<double>(entries_) - sigma * sigma);
   }
 
+  // For checkpoints.
+  double sumSquares() const { return sumSquares_; }
+  long entries() const { return entries_; }
+  void restore(double sumSquares, long entries) {
+    sumSquares_ = sumSquares;
+    entries_ = entries;
+  }
+
  private:
   double sumSquares_ = 0.0;
   long entries_ = 0;

@@ -176,6 +176,15 @@ void MechanicalForecastModel::refreshMeanTangent() {
   });
 }
 
+void MechanicalForecastModel::restoreReference(const MechanicalState& reference,
+                                               const Eigen::VectorXd& params) {
+  if (pendingTangent_.valid()) pendingTangent_.wait();
+  pendingTangent_ = {};
+  reference_ = reference;
+  setParameters(params);
+  if (options_.meanTangent && worker_ == 0) buildMeanTangent();
+}
+
 Eigen::MatrixX3d MechanicalForecastModel::positionsOf(const std::vector<MappedPoint>& points) const {
   Eigen::MatrixX3d out(points.size(), 3);
   for (size_t i = 0; i < points.size(); ++i)

@@ -86,6 +86,10 @@ class MechanicalForecastModel final : public ForecastModel {
   Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
   // Timings of this worker's last forecast (assembly / solve), for benchmarks.
   const StepTimings& lastTimings() const { return integrator_.lastTimings(); }
+  // Resuming from a checkpoint: the reference state and the analysed (physical) parameters the
+  // checkpointed step ended with. Worker 0 rebuilds the mean tangent there, synchronously (an
+  // uninterrupted run would step with one built a step or two earlier, in the background).
+  void restoreReference(const MechanicalState& reference, const Eigen::VectorXd& params);
   // Costs accumulated since the last call, which resets them.
   ForecastStats takeStats();
 

@@ -19,6 +19,13 @@ class ParameterForwardRun {
   // Positions of mapped points in the current state, m.
   Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
   double time() const { return state_.t; }
+  // For checkpoints: the state after steps() steps, and continuing from one.
+  const MechanicalState& state() const { return state_; }
+  int steps() const { return steps_; }
+  void restore(const MechanicalState& state, int steps) {
+    state_ = state;
+    steps_ = steps;
+  }
 
  private:
   MechanicalModel model_;

@@ -2,6 +2,7 @@
 // validation points, averaged and maximised over points and steps, in m and relative to the
 // truth's maximal deformation D = max over points and steps of |p_truth(t) - p_truth(0)|.
 #pragma once
+#include <array>
 #include <Eigen/Core>
 
 #include "bcassim/app/AssimilationSettings.h"
@@ -28,6 +29,16 @@ class ErrorSummary {
   int steps() const { return steps_; }
   double meanM() const { return count_ ? sum_ / count_ : 0.0; }
   double maxM() const { return max_; }
+  // For checkpoints: the accumulators (sum, max, count, steps), and back.
+  std::array<double, 4> saved() const {
+    return {sum_, max_, static_cast<double>(count_), static_cast<double>(steps_)};
+  }
+  void restore(const std::array<double, 4>& a) {
+    sum_ = a[0];
+    max_ = a[1];
+    count_ = static_cast<long>(a[2]);
+    steps_ = static_cast<int>(a[3]);
+  }
 
  private:
   double sum_ = 0.0, max_ = 0.0;

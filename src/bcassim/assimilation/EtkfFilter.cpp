@@ -5,6 +5,8 @@
 #include <Eigen/SVD>
 #include <chrono>
 #include <cmath>
+#include <sstream>
+#include <stdexcept>
 
 #include "bcassim/Error.h"
 #include "bcassim/assimilation/ObservedSubset.h"
@@ -114,6 +116,29 @@ FilterStepReport EtkfFilter::step(const Observation& y) {
   ensemble_.layout().toReported(x_, sd, report.mean, report.stddev);
   report.seconds.total = secondsSince(start);
   return report;
+}
+
+FilterState EtkfFilter::saveState() const {
+  std::ostringstream rng;
+  rng << rng_;
+  return {{Eigen::MatrixXd(x_), members_}, rng.str()};
+}
+
+void EtkfFilter::restoreState(const FilterState& state) {
+  const auto fits = [&](size_t i, Eigen::Index rows, Eigen::Index cols) {
+    return i < state.matrices.size() && state.matrices[i].rows() == rows &&
+           state.matrices[i].cols() == cols;
+  };
+  if (state.matrices.size() != 2 || !fits(0, x_.size(), 1) ||
+      !fits(1, members_.rows(), members_.cols()))
+    throw std::invalid_argument("EtkfFilter::restoreState: sizes differ from this filter's");
+  std::istringstream rng(state.text);
+  std::mt19937_64 restored;
+  rng >> restored;
+  if (!rng) throw std::invalid_argument("EtkfFilter::restoreState: unreadable generator state");
+  rng_ = restored;
+  x_ = state.matrices[0].col(0);
+  members_ = state.matrices[1];
 }
 
 }  // namespace bcassim

@@ -30,7 +30,9 @@ class EtkfFilter final : public Filter {
   const Eigen::VectorXd& mean() const override { return x_; }
   // Sample covariance of the members, X' X'^T / (N - 1).
   Eigen::MatrixXd covariance() const override;
-  Eigen::MatrixXd covarianceFactor() const override;  // anomalies / sqrt(N - 1), n x N
+  Eigen::MatrixXd covarianceFactor() const override;
+  FilterState saveState() const override;
+  void restoreState(const FilterState& state) override;  // anomalies / sqrt(N - 1), n x N
 
   const Eigen::MatrixXd& members() const { return members_; }  // n x N
   // Replaces the ensemble (restoring a checkpoint); the mean becomes its column mean.

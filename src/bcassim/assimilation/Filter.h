@@ -1,11 +1,20 @@
 // The predict/correct loop of thesis Fig. 3.5 seen from the caller: one step() per time step.
 #pragma once
 #include <Eigen/Core>
+#include <string>
+#include <vector>
 
 #include "bcassim/assimilation/FilterStepReport.h"
 #include "bcassim/assimilation/Observation.h"
 
 namespace bcassim {
+
+// Everything a filter carries from one step to the next, for checkpoints: matrices (mean,
+// covariance or its factors, members) and text (a random generator's state).
+struct FilterState {
+  std::vector<Eigen::MatrixXd> matrices;
+  std::string text;
+};
 
 class Filter {
  public:
@@ -20,6 +29,10 @@ class Filter {
   // A factor S (n x r) with covariance() = S S^T, of the filter's own rank: the uncertainty of any
   // linear function H x is then (H S)(H S)^T, cheap even when n x n would not fit in memory.
   virtual Eigen::MatrixXd covarianceFactor() const = 0;
+  // restoreState(saveState()) on a filter built the same way continues exactly where the first
+  // one was. restoreState throws std::invalid_argument when the state does not fit this filter.
+  virtual FilterState saveState() const = 0;
+  virtual void restoreState(const FilterState& state) = 0;
 };
 
 }  // namespace bcassim

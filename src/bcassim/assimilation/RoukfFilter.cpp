@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <stdexcept>
 
 #include "bcassim/Error.h"
 #include "bcassim/assimilation/CovarianceRepair.h"
@@ -112,6 +113,23 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
   report.largestJitter = repairs.largestJitter;
   report.seconds.total = secondsSince(start);
   return report;
+}
+
+FilterState RoukfFilter::saveState() const {
+  return {{Eigen::MatrixXd(x_), L_, U_}, ""};
+}
+
+void RoukfFilter::restoreState(const FilterState& state) {
+  const auto fits = [&](size_t i, Eigen::Index rows, Eigen::Index cols) {
+    return i < state.matrices.size() && state.matrices[i].rows() == rows &&
+           state.matrices[i].cols() == cols;
+  };
+  if (state.matrices.size() != 3 || !fits(0, x_.size(), 1) || !fits(1, L_.rows(), L_.cols()) ||
+      !fits(2, U_.rows(), U_.cols()))
+    throw std::invalid_argument("RoukfFilter::restoreState: sizes differ from this filter's");
+  x_ = state.matrices[0].col(0);
+  L_ = state.matrices[1];
+  U_ = state.matrices[2];
 }
 
 }  // namespace bcassim

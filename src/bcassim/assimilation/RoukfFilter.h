@@ -32,7 +32,9 @@ class RoukfFilter final : public Filter {
   const Eigen::VectorXd& mean() const override { return x_; }
   // L U^-1 L^T, n x n: for tests and small states.
   Eigen::MatrixXd covariance() const override;
-  Eigen::MatrixXd covarianceFactor() const override;  // L C^-T with U = C C^T, n x r
+  Eigen::MatrixXd covarianceFactor() const override;
+  FilterState saveState() const override;
+  void restoreState(const FilterState& state) override;  // L C^-T with U = C C^T, n x r
 
   Eigen::Index rank() const { return L_.cols(); }
   const Eigen::MatrixXd& basis() const { return L_; }             // L, n x r

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <stdexcept>
 
 #include "bcassim/Error.h"
 #include "bcassim/assimilation/CovarianceRepair.h"
@@ -92,6 +93,21 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   report.largestJitter = repairs.largestJitter;
   report.seconds.total = secondsSince(start);
   return report;
+}
+
+FilterState UkfFilter::saveState() const {
+  return {{Eigen::MatrixXd(x_), P_}, ""};
+}
+
+void UkfFilter::restoreState(const FilterState& state) {
+  const auto fits = [&](size_t i, Eigen::Index rows, Eigen::Index cols) {
+    return i < state.matrices.size() && state.matrices[i].rows() == rows &&
+           state.matrices[i].cols() == cols;
+  };
+  if (state.matrices.size() != 2 || !fits(0, x_.size(), 1) || !fits(1, P_.rows(), P_.cols()))
+    throw std::invalid_argument("UkfFilter::restoreState: sizes differ from this filter's");
+  x_ = state.matrices[0].col(0);
+  P_ = state.matrices[1];
 }
 
 }  // namespace bcassim

@@ -28,7 +28,9 @@ class UkfFilter final : public Filter {
   FilterStepReport step(const Observation& y) override;
   const Eigen::VectorXd& mean() const override { return x_; }
   Eigen::MatrixXd covariance() const override { return P_; }
-  Eigen::MatrixXd covarianceFactor() const override;  // Cholesky factor of P, n x n
+  Eigen::MatrixXd covarianceFactor() const override;
+  FilterState saveState() const override;
+  void restoreState(const FilterState& state) override;  // Cholesky factor of P, n x n
 
   // Replaces the estimate (restoring a checkpoint, or a prior with correlations). A covariance that
   // is not positive definite is repaired at the next step and reported there.

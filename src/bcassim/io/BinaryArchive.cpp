@@ -1,0 +1,101 @@
+#include "bcassim/io/BinaryArchive.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+
+#include "bcassim/Error.h"
+
+namespace bcassim {
+namespace {
+
+constexpr char kText = 'T', kNumber = 'N', kMatrix = 'M';
+
+template <class T>
+void put(std::ofstream& out, T value) {
+  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+}  // namespace
+
+ArchiveWriter::ArchiveWriter(std::string path) : path_(std::move(path)) {
+  out_.open(path_ + ".tmp", std::ios::binary | std::ios::trunc);
+  if (!out_) throw InputError(fmt::format("{}.tmp: cannot write file", path_));
+}
+
+void ArchiveWriter::text(const std::string& s) {
+  out_.put(kText);
+  put<std::uint64_t>(out_, s.size());
+  out_.write(s.data(), static_cast<std::streamsize>(s.size()));
+}
+
+void ArchiveWriter::number(double x) {
+  out_.put(kNumber);
+  put(out_, x);
+}
+
+void ArchiveWriter::matrix(const Eigen::MatrixXd& m) {
+  out_.put(kMatrix);
+  put<std::int64_t>(out_, m.rows());
+  put<std::int64_t>(out_, m.cols());
+  out_.write(reinterpret_cast<const char*>(m.data()),
+             static_cast<std::streamsize>(sizeof(double) * m.size()));
+}
+
+void ArchiveWriter::commit() {
+  out_.flush();
+  if (!out_) throw InputError(fmt::format("{}.tmp: cannot write file", path_));
+  out_.close();
+  std::error_code ec;
+  std::filesystem::rename(path_ + ".tmp", path_, ec);
+  if (ec) throw InputError(fmt::format("{}: cannot write file ({})", path_, ec.message()));
+}
+
+ArchiveReader::ArchiveReader(std::string path, const std::string& whatFor)
+    : path_(std::move(path)), in_(path_, std::ios::binary) {
+  if (!in_) throw InputError(fmt::format("{}: cannot open ({})", path_, whatFor));
+}
+
+void ArchiveReader::expect(char tag, const char* what) {
+  char got = 0;
+  if (!in_.get(got) || got != tag)
+    throw InputError(fmt::format("{}: damaged (expected {})", path_, what));
+}
+
+std::string ArchiveReader::text() {
+  expect(kText, "a text");
+  std::uint64_t n = 0;
+  in_.read(reinterpret_cast<char*>(&n), sizeof n);
+  if (!in_ || n > (1u << 26)) throw InputError(fmt::format("{}: damaged (expected a text)", path_));
+  std::string s(n, '\0');
+  in_.read(s.data(), static_cast<std::streamsize>(n));
+  if (!in_) throw InputError(fmt::format("{}: damaged (expected a text)", path_));
+  return s;
+}
+
+double ArchiveReader::number() {
+  expect(kNumber, "a number");
+  double x = 0;
+  in_.read(reinterpret_cast<char*>(&x), sizeof x);
+  if (!in_) throw InputError(fmt::format("{}: damaged (expected a number)", path_));
+  return x;
+}
+
+Eigen::MatrixXd ArchiveReader::matrix() {
+  expect(kMatrix, "a matrix");
+  std::int64_t rows = -1, cols = -1;
+  in_.read(reinterpret_cast<char*>(&rows), sizeof rows);
+  in_.read(reinterpret_cast<char*>(&cols), sizeof cols);
+  if (!in_ || rows < 0 || cols < 0 || rows * cols > (std::int64_t{1} << 32))
+    throw InputError(fmt::format("{}: damaged (expected a matrix)", path_));
+  Eigen::MatrixXd m(rows, cols);
+  in_.read(reinterpret_cast<char*>(m.data()), static_cast<std::streamsize>(sizeof(double) * m.size()));
+  if (!in_ || !m.allFinite())
+    throw InputError(fmt::format("{}: damaged (expected a {} x {} matrix of finite numbers)", path_,
+                                 rows, cols));
+  return m;
+}
+
+}  // namespace bcassim
