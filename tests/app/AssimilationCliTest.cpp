@@ -103,6 +103,27 @@ TEST(AssimilationCli, TangentOptionsNeedTheMeanTangent) {
               "scene.yaml:7: assimilation.tangent: expected one of own, mean, got 'frozen'");
 }
 
+TEST(AssimilationCli, MeanTangentRefusesMoreSpringsThanItCorrects) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml",
+            "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [20, 4, 4]}\n"
+            "springs:\n  groups: [{coefficients: [0, 0, 10]}]\n"
+            "  attachments: [{region: {box: {min: [-1, -1, -1], max: [1, 1, 1]}}}]\n"
+            "markers:\n  - points: [[0.1, 0.01, 0.01]]\n"
+            "time: {dt: 0.01, steps: 3}\n"
+            "assimilation:\n"
+            "  tangent: mean\n"
+            "  parameters: [{spring: {group: 0, coefficient: gamma}, mean: 10, stddev: 1}]\n"
+            "  observations: {tracks: tracks.csv}\n");
+  writeText(dir / "tracks.csv", "time,marker,x,y,z\n0.01,0,0.1,0.01,0.01\n");
+  const test::CliResult r = runBcassim(dir, "assimilate scene.yaml --out out --quiet --no-plots");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err,
+            "bcassim: error: scene.yaml:9: assimilation.tangent: mean corrects at most 128 springs "
+            "exactly (the springs' stiffness is each sigma point's own); this scene has 354: use "
+            "tangent: own\n");
+}
+
 TEST(AssimilationCli, RunPrintsSummaryAndWritesFiles) {
   const auto dir = freshDir();
   const test::CliResult r = assimilate(

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "bcassim/Error.h"
+#include "bcassim/mechanics/FrozenTangent.h"
 
 namespace bcassim {
 
@@ -197,6 +198,12 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.carryVelocities = state.boolean("velocities", true);
   s.reuseFactorization = r.boolean("reuse_factorization", true);
   s.meanTangent = r.choice("tangent", "own", {"own", "mean"}) == "mean";
+  if (s.meanTangent &&
+      c.model.springs.springs().size() > static_cast<size_t>(FrozenTangent::kMaxCorrectedSprings))
+    r.fail("tangent",
+           fmt::format("mean corrects at most {} springs exactly (the springs' stiffness is each "
+                       "sigma point's own); this scene has {}: use tangent: own",
+                       FrozenTangent::kMaxCorrectedSprings, c.model.springs.springs().size()));
   s.tangentRefreshEvery = r.integer("tangent_refresh_every", 1, Range::AtLeastOne);
   s.tangentInBackground = r.boolean("tangent_background", false);
   r.rejectUnless(s.meanTangent, "tangent_refresh_every", "tangent: mean");
