@@ -387,7 +387,8 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
   std::ofstream timing = openCsv(
       timingPath,
       "step,time_s,forecast_ms,correction_ms,total_ms,validation_ms,assembly_cpu_ms,"
-      "solve_cpu_ms,tangent_cpu_ms,linear_iterations,factorizations,tangent_failures",
+      "solve_cpu_ms,tangent_cpu_ms,linear_iterations,factorizations,tangent_failures,"
+      "tangent_wait_ms",
       resumeStep);
 
   std::unique_ptr<ValidationLog> validation;
@@ -463,7 +464,7 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
     if (hidden)
       hidden->add(step, time, *models[0], *filter, modelError.variance(s.observations.sigma));
     const double validationSeconds = secondsSince(v0);
-    timing << fmt::format("{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{},{}\n",
+    timing << fmt::format("{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{},{},{:.6g}\n",
                           step, time, 1e3 * report.seconds.forecast,
                           1e3 * report.seconds.correction, 1e3 * report.seconds.total,
                           1e3 * validationSeconds, 1e3 * cost.assemblySeconds,
@@ -471,7 +472,8 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
                           cost.forecasts > 0 ? static_cast<double>(cost.linearIterations) /
                                                    cost.forecasts
                                              : 0.0,
-                          cost.factorizations, cost.tangentFailures);
+                          cost.factorizations, cost.tangentFailures,
+                          1e3 * cost.tangentWaitSeconds);
     result.tangentFailures += cost.tangentFailures;
     flushOrThrow(timing, timingPath);
     stepMs.push_back(1e3 * report.seconds.total);

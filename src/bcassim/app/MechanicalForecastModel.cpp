@@ -1,5 +1,6 @@
 #include "bcassim/app/MechanicalForecastModel.h"
 
+#include <chrono>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -33,6 +34,7 @@ ForecastStats& ForecastStats::operator+=(const ForecastStats& o) {
   assemblySeconds += o.assemblySeconds;
   solveSeconds += o.solveSeconds;
   tangentSeconds += o.tangentSeconds;
+  tangentWaitSeconds += o.tangentWaitSeconds;
   forecasts += o.forecasts;
   tangentFailures += o.tangentFailures;
   linearIterations += o.linearIterations;
@@ -155,17 +157,23 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
 
 void MechanicalForecastModel::refreshMeanTangent() {
   if (!options_.meanTangent || worker_ != 0) return;
-  if (pendingTangent_.valid()) {  // built during the step that just ended
+  if (++shared_->stepsSinceTangent < options_.tangentRefreshEvery) return;
+  if (!options_.tangentInBackground) {
+    buildMeanTangent();
+    return;
+  }
+  // A background build, launched a refresh period ago, replaces the tangent now, whatever the
+  // thread timing: the schedule (and the result) is the same on any machine.
+  if (pendingTangent_.valid()) {
+    const auto waitStart = std::chrono::steady_clock::now();
+    pendingTangent_.wait();
+    stats_.tangentWaitSeconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - waitStart).count();
     try {
       adoptTangent(pendingTangent_.get());
     } catch (const NumericalError&) {
       ++stats_.tangentFailures;
     }
-  }
-  if (++shared_->stepsSinceTangent < options_.tangentRefreshEvery) return;
-  if (!options_.tangentInBackground) {
-    buildMeanTangent();
-    return;
   }
   shared_->stepsSinceTangent = 0;
   tangentModel_ = model_;

@@ -39,6 +39,8 @@ struct SharedFactorization {
 // What one worker's forecasts cost since the last takeStats(): CPU seconds in each part.
 struct ForecastStats {
   double assemblySeconds = 0, solveSeconds = 0, tangentSeconds = 0;
+  // Wall time worker 0 waited at endStep() for a background tangent to finish.
+  double tangentWaitSeconds = 0;
   int forecasts = 0, linearIterations = 0, factorizations = 0;
   // Mean tangents that were not positive definite (the previous one was kept: any tangent gives
   // a consistent step, see ImplicitEuler::stepWithTangent).
@@ -56,8 +58,9 @@ struct ForecastModelOptions {
   // rebuilt every tangentRefreshEvery steps; needs a shared SharedFactorization.
   bool meanTangent = false;
   int tangentRefreshEvery = 1;
-  // Build the mean's tangent on a thread of its own while the next step's forecasts run; they
-  // then use the tangent of the mean one step older (deterministically).
+  // Build the mean's tangent on a thread of its own during the next tangentRefreshEvery steps;
+  // it replaces the tangent in use when the following build starts, so the forecasts step with
+  // a tangent N to 2N - 1 steps old (N = tangentRefreshEvery), deterministically.
   bool tangentInBackground = false;
 };
 
