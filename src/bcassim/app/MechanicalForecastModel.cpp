@@ -157,13 +157,10 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
 
 void MechanicalForecastModel::refreshMeanTangent() {
   if (!options_.meanTangent || worker_ != 0) return;
-  if (++shared_->stepsSinceTangent < options_.tangentRefreshEvery) return;
-  if (!options_.tangentInBackground) {
-    buildMeanTangent();
-    return;
-  }
-  // A background build, launched a refresh period ago, replaces the tangent now, whatever the
-  // thread timing: the schedule (and the result) is the same on any machine.
+  // A background build launched at the previous endStep replaces the tangent now, whatever the
+  // thread timing (waiting for it if need be): the schedule, and the result, are the same on
+  // any machine. The tangent in use is thus 1 to N steps old (N = tangentRefreshEvery): older
+  // elastic tangents can make the step unstable (docs/liver.md).
   if (pendingTangent_.valid()) {
     const auto waitStart = std::chrono::steady_clock::now();
     pendingTangent_.wait();
@@ -174,6 +171,11 @@ void MechanicalForecastModel::refreshMeanTangent() {
     } catch (const NumericalError&) {
       ++stats_.tangentFailures;
     }
+  }
+  if (++shared_->stepsSinceTangent < options_.tangentRefreshEvery) return;
+  if (!options_.tangentInBackground) {
+    buildMeanTangent();
+    return;
   }
   shared_->stepsSinceTangent = 0;
   tangentModel_ = model_;

@@ -58,9 +58,9 @@ struct ForecastModelOptions {
   // rebuilt every tangentRefreshEvery steps; needs a shared SharedFactorization.
   bool meanTangent = false;
   int tangentRefreshEvery = 1;
-  // Build the mean's tangent on a thread of its own during the next tangentRefreshEvery steps;
-  // it replaces the tangent in use when the following build starts, so the forecasts step with
-  // a tangent N to 2N - 1 steps old (N = tangentRefreshEvery), deterministically.
+  // Build the mean's tangent on a thread of its own while the next step runs; it replaces the
+  // tangent in use at the end of that step, so the forecasts step with a tangent 1 to N steps
+  // old (N = tangentRefreshEvery), deterministically.
   bool tangentInBackground = false;
 };
 
