@@ -1,47 +1,43 @@
 #include "bcassim/mechanics/FrozenTangent.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace bcassim {
 namespace {
 
-// Whether dof d is prescribed (sorted list).
-bool constrained(const std::vector<int>& dofs, int d) {
-  return std::binary_search(dofs.begin(), dofs.end(), d);
+// Calls visit(j, d, w) for every entry of U: column j = 3 s + c (spring s, component c), row d
+// (a dof of the spring's tet), weight w; Dirichlet dofs are skipped when `eliminated`.
+template <class Visit>
+void forEachSpringEntry(const MechanicalModel& model, bool eliminated, Visit&& visit) {
+  const auto& springs = model.springs.springs();
+  const auto& fixed = model.dirichlet.constrainedDofs();  // sorted
+  for (size_t s = 0; s < springs.size(); ++s)
+    for (int a = 0; a < 4; ++a) {
+      const int node = model.mesh->T(springs[s].tet, a);
+      for (int c = 0; c < 3; ++c) {
+        const int d = 3 * node + c;
+        if (eliminated && std::binary_search(fixed.begin(), fixed.end(), d)) continue;
+        visit(3 * static_cast<Eigen::Index>(s) + c, d, springs[s].weights(a));
+      }
+    }
 }
 
 }  // namespace
 
 Eigen::VectorXd springGather(const MechanicalModel& model, const Eigen::VectorXd& v,
                              bool eliminated) {
-  const auto& springs = model.springs.springs();
-  const auto& fixed = model.dirichlet.constrainedDofs();
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(springs.size()));
-  for (size_t s = 0; s < springs.size(); ++s)
-    for (int a = 0; a < 4; ++a) {
-      const int node = model.mesh->T(springs[s].tet, a);
-      for (int c = 0; c < 3; ++c) {
-        const int d = 3 * node + c;
-        if (eliminated && constrained(fixed, d)) continue;
-        out(3 * static_cast<Eigen::Index>(s) + c) += springs[s].weights(a) * v(d);
-      }
-    }
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(
+                                                      model.springs.springs().size()));
+  forEachSpringEntry(model, eliminated,
+                     [&](Eigen::Index j, int d, double w) { out(j) += w * v(d); });
   return out;
 }
 
 void springScatterAdd(const MechanicalModel& model, const Eigen::VectorXd& q, bool eliminated,
                       Eigen::VectorXd& out) {
-  const auto& springs = model.springs.springs();
-  const auto& fixed = model.dirichlet.constrainedDofs();
-  for (size_t s = 0; s < springs.size(); ++s)
-    for (int a = 0; a < 4; ++a) {
-      const int node = model.mesh->T(springs[s].tet, a);
-      for (int c = 0; c < 3; ++c) {
-        const int d = 3 * node + c;
-        if (eliminated && constrained(fixed, d)) continue;
-        out(d) += springs[s].weights(a) * q(3 * static_cast<Eigen::Index>(s) + c);
-      }
-    }
+  forEachSpringEntry(model, eliminated,
+                     [&](Eigen::Index j, int d, double w) { out(d) += w * q(j); });
 }
 
 std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel& model,
@@ -73,13 +69,7 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel&
     const auto n = static_cast<Eigen::Index>(state.x.size());
     const auto r = 3 * static_cast<Eigen::Index>(springs.size());
     Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, r);
-    for (Eigen::Index j = 0; j < r; ++j) {
-      Eigen::VectorXd unit = Eigen::VectorXd::Zero(r);
-      unit(j) = 1.0;
-      Eigen::VectorXd column = Eigen::VectorXd::Zero(n);
-      springScatterAdd(model, unit, true, column);
-      U.col(j) = column;
-    }
+    forEachSpringEntry(model, true, [&](Eigen::Index j, int d, double w) { U(d, j) += w; });
     t->factor_->solve(U, t->Z_);
     t->G_.resize(r, r);  // U^T Z from the few rows of Z that U touches
     for (Eigen::Index j = 0; j < r; ++j) t->G_.col(j) = springGather(model, t->Z_.col(j), true);
