@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "bcassim/mechanics/ImplicitEulerSystem.h"
+
 namespace bcassim {
 namespace {
 
@@ -46,12 +48,11 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel&
   const auto start = std::chrono::steady_clock::now();
   auto t = std::make_shared<FrozenTangent>();
   t->dt_ = dt;
-  t->stiffnessScale_ = dt * model.rayleighStiffness + dt * dt;
+  t->stiffnessScale_ = implicitEulerStiffnessScale(model, dt);
   Eigen::VectorXd f;
   model.internalForcesAndStiffness(state.t, state.x, f, t->K_);
   t->A_ = t->K_;
-  t->A_.coeffs() *= t->stiffnessScale_;
-  model.mass.addTo(*model.pattern, 1.0 + dt * model.rayleighMass, t->A_);
+  stiffnessToImplicitEulerMatrix(model, dt, t->A_);
   SparseMatrix eliminated = t->A_;
   model.dirichlet.eliminateMatrix(eliminated);
   const auto assembled = std::chrono::steady_clock::now();

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "bcassim/Error.h"
+#include "bcassim/mechanics/ImplicitEulerSystem.h"
 
 namespace bcassim {
 namespace {
@@ -31,9 +32,7 @@ ImplicitEuler::ImplicitEuler(const MechanicalModel& model, std::unique_ptr<Linea
 }
 
 void ImplicitEuler::formSystemMatrix(const MechanicalModel& model) {
-  const double h = options_.dt;
-  A_.coeffs() *= h * model.rayleighStiffness + h * h;
-  model.mass.addTo(*model.pattern, 1.0 + h * model.rayleighMass, A_);
+  stiffnessToImplicitEulerMatrix(model, options_.dt, A_);
 }
 
 void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
@@ -52,15 +51,9 @@ void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
   rhs_ = h * (fext_ - fint_ - model.rayleighMass * Mv_ - (model.rayleighStiffness + h) * Kv_);
   formSystemMatrix(model);
   // Constrained dofs reach their prescribed positions at t + dt: x + dt (v + dv) = target.
-  Eigen::VectorXd knownDv;
   if (!bc.empty()) {
-    const Eigen::VectorXd target = bc.targetPositions(rest_, tNext);
-    knownDv.resize(target.size());
-    for (Eigen::Index k = 0; k < target.size(); ++k) {
-      const int d = bc.constrainedDofs()[k];
-      knownDv(k) = (target(k) - s.x(d)) / h - s.v(d);
-    }
-    bc.eliminate(A_, rhs_, knownDv);
+    knownVelocityChange(model, rest_, s, h, tNext, knownDv_);
+    bc.eliminate(A_, rhs_, knownDv_);
   }
   timings_.assembly += seconds(t0, Clock::now());
 
@@ -150,12 +143,7 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
   rhs_ = h * (fext_ - fint_ - model.rayleighMass * Mv_ - (model.rayleighStiffness + h) * Kv_);
   const double c = tangent.stiffnessScale();
   if (!bc.empty()) {
-    const Eigen::VectorXd target = bc.targetPositions(rest_, tNext);
-    knownDv_.resize(target.size());
-    for (Eigen::Index k = 0; k < target.size(); ++k) {
-      const int d = bc.constrainedDofs()[k];
-      knownDv_(k) = (target(k) - s.x(d)) / h - s.v(d);
-    }
+    knownVelocityChange(model, rest_, s, h, tNext, knownDv_);
     if (correct && knownDv_.any()) {  // the springs' share of the known columns
       Eigen::VectorXd known = Eigen::VectorXd::Zero(rhs_.size()), moved = known;
       for (Eigen::Index k = 0; k < knownDv_.size(); ++k) known(bc.constrainedDofs()[k]) = knownDv_(k);
