@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+
 #include "bcassim/Error.h"
 #include "bcassim/io/BinaryArchive.h"
 
@@ -53,7 +55,9 @@ void writeAssimilationCheckpoint(const std::string& path, const std::string& key
 }
 
 AssimilationCheckpoint readAssimilationCheckpoint(const std::string& path, const std::string& key) {
-  ArchiveReader in(path, "no checkpoint to resume from: run without --resume");
+  if (!std::filesystem::exists(path))
+    throw InputError(fmt::format("{}: no checkpoint to resume from (run without --resume)", path));
+  ArchiveReader in(path, "the checkpoint to resume from");
   if (in.text() != kMagic)
     throw InputError(fmt::format("{}: not a bcassim assimilation checkpoint", path));
   const std::string written = in.text();

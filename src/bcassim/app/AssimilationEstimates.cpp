@@ -32,21 +32,11 @@ double parseField(const std::string& path, int line, const char* name, const std
 }  // namespace
 
 EstimatesWriter::EstimatesWriter(const std::string& path, std::vector<std::string> names)
-    : path_(path), names_(std::move(names)) {
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-  out_.open(path);
-  if (!out_) throw InputError(path + ": cannot write file");
-  out_ << kHeader << '\n';
-}
+    : path_(path), names_(std::move(names)), out_(openStepCsv(path, kHeader, std::nullopt)) {}
 
 EstimatesWriter::EstimatesWriter(const std::string& path, std::vector<std::string> names,
                                  int resumeStep)
-    : path_(path), names_(std::move(names)) {
-  keepCsvRowsUpTo(path, resumeStep);
-  out_.open(path, std::ios::app);
-  if (!out_) throw InputError(path + ": cannot write file");
-}
+    : path_(path), names_(std::move(names)), out_(openStepCsv(path, kHeader, resumeStep)) {}
 
 void EstimatesWriter::write(int step, double time, const Eigen::VectorXd& mean,
                             const Eigen::VectorXd& stddev) {

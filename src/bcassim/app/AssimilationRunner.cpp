@@ -105,31 +105,16 @@ std::string checkpointKey(const Scene& scene, const StochasticState& layout) {
                      layout.size(), names);
 }
 
-// A per-step CSV file: new with its header, or, resuming after step k, cut back to the rows of
-// steps <= k and appended to.
-std::ofstream openCsv(const std::filesystem::path& path, const char* header,
-                      std::optional<int> resumeStep) {
-  if (!resumeStep) {
-    std::ofstream out = openForWriting(path);
-    out << header << '\n';
-    return out;
-  }
-  keepCsvRowsUpTo(path.string(), *resumeStep);
-  std::ofstream out(path, std::ios::app);
-  if (!out) throw InputError(path.string() + ": cannot write file");
-  return out;
-}
-
 // Per-step validation errors of the estimated and the initial model against the truth, written
 // as errors.csv, with the summaries over all steps and over the free run.
 class ValidationLog {
  public:
   ValidationLog(const Scene& scene, const std::filesystem::path& dir,
-                std::optional<int> resumeStep)
+                std::optional<double> resumeStep)
       : truth_(*scene.assimilation->validationTruth),
         untilStep_(scene.assimilation->observations.untilStep),
         path_(dir / "errors.csv"),
-        out_(openCsv(path_,
+        out_(openStepCsv(path_.string(),
                      "step,time_s,estimated_mean_mm,estimated_max_mm,estimated_mean_pct,"
                      "estimated_max_pct,initial_mean_mm,initial_max_mm,initial_mean_pct,"
                      "initial_max_pct",
@@ -213,10 +198,10 @@ class ValidationLog {
 class HiddenPointLog {
  public:
   HiddenPointLog(const Scene& scene, const std::filesystem::path& dir,
-                 std::optional<int> resumeStep)
+                 std::optional<double> resumeStep)
       : scene_(scene),
         path_(dir / "hidden_points.csv"),
-        out_(openCsv(path_,
+        out_(openStepCsv(path_.string(),
                      "step,time_s,point,x_m,y_m,z_m,sigma_x_m,sigma_y_m,sigma_z_m,radius95_m,"
                      "model_error_sigma_m,radius95_total_m",
                      resumeStep)) {}
@@ -366,15 +351,15 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
   const std::string key = checkpointKey(scene, layout);
   std::optional<AssimilationCheckpoint> resumed;
   if (resume) resumed = readAssimilationCheckpoint(checkpointPath, key);
-  const std::optional<int> resumeStep =
-      resumed ? std::optional<int>(resumed->step) : std::nullopt;
+  const std::optional<double> resumeStep =
+      resumed ? std::optional<double>(resumed->step) : std::nullopt;
 
   std::vector<std::string> names;
   for (const EstimatedParameter& p : s.parameters) names.push_back(p.name);
   std::unique_ptr<EstimatesWriter> estimates;
   if (resumeStep) {
     estimates = std::make_unique<EstimatesWriter>((dir / "estimates.csv").string(), names,
-                                                  *resumeStep);
+                                                  resumed->step);
   } else {
     estimates = std::make_unique<EstimatesWriter>((dir / "estimates.csv").string(), names);
     Eigen::VectorXd mean, sd;
@@ -382,10 +367,11 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
     estimates->write(0, 0.0, mean.tail(layout.parameterCount()), sd.tail(layout.parameterCount()));
   }
   const std::filesystem::path filterPath = dir / "filter.csv", timingPath = dir / "timing.csv";
-  std::ofstream filterCsv = openCsv(
-      filterPath, "step,time_s,observed_entries,innovation_norm_m,covariance_repairs", resumeStep);
-  std::ofstream timing = openCsv(
-      timingPath,
+  std::ofstream filterCsv =
+      openStepCsv(filterPath.string(),
+                  "step,time_s,observed_entries,innovation_norm_m,covariance_repairs", resumeStep);
+  std::ofstream timing = openStepCsv(
+      timingPath.string(),
       "step,time_s,forecast_ms,correction_ms,total_ms,validation_ms,assembly_cpu_ms,"
       "solve_cpu_ms,tangent_cpu_ms,linear_iterations,factorizations,tangent_failures,"
       "tangent_wait_ms",

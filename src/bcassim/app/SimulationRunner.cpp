@@ -161,16 +161,11 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
     if (!resume) hidden->write(state.t, pointPositions(scene, scene.hidden, state.x));
   }
   const std::string timingPath = (out / "timing.csv").string();
-  std::ofstream timing;
-  if (resume) {
-    keepCsvRowsUpTo(timingPath, resumed.step);
-    timing.open(timingPath, std::ios::app);
-    if (!timing) throw InputError(timingPath + ": cannot write file");
-  } else {
-    timing = openForWriting(timingPath);
-    timing << (statics ? "step,time_s,total_ms,newton_iterations\n"
-                       : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations\n");
-  }
+  std::ofstream timing = openStepCsv(
+      timingPath,
+      statics ? "step,time_s,total_ms,newton_iterations"
+              : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations",
+      resume ? std::optional<double>(resumed.step) : std::nullopt);
 
   const Eigen::VectorXd rest = model.restPositions();
   double stepSeconds = resume ? resumed.stepSeconds : 0.0;

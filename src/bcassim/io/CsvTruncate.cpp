@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "bcassim/Error.h"
+#include "bcassim/io/Files.h"
 
 namespace bcassim {
 
@@ -37,6 +38,21 @@ void keepCsvRowsUpTo(const std::string& path, double limit) {
   std::error_code ec;
   std::filesystem::rename(temporary, path, ec);
   if (ec) throw InputError(fmt::format("{}: cannot replace ({})", path, ec.message()));
+}
+
+std::ofstream openStepCsv(const std::string& path, const std::string& header,
+                          std::optional<double> resumeUpTo) {
+  std::ofstream out;
+  if (resumeUpTo) {
+    keepCsvRowsUpTo(path, *resumeUpTo);
+    out.open(path, std::ios::app);
+  } else {
+    io::createParentDirectory(path);
+    out.open(path, std::ios::trunc);
+    out << header << '\n';
+  }
+  if (!out) throw InputError(fmt::format("{}: cannot write file", path));
+  return out;
 }
 
 }  // namespace bcassim
