@@ -215,8 +215,9 @@ class HiddenPointLog {
         pointUncertainty(*scene_.model.mesh, scene_.hidden.points, filter.covarianceFactor());
     for (size_t i = 0; i < u.size(); ++i) {
       const auto r = static_cast<Eigen::Index>(i);
-      const double lambda = u[i].radius95 * u[i].radius95 / kChiSquare3At95;
-      const double total = std::sqrt(kChiSquare3At95 * (lambda + modelErrorVariance));
+      // sqrt(chi2 (lambda_max + q)) with radius95 = sqrt(chi2 lambda_max)
+      const double total =
+          std::sqrt(u[i].radius95 * u[i].radius95 + kChiSquare3At95 * modelErrorVariance);
       out_ << fmt::format(
           "{},{:.9g},{},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", step,
           time, i, p(r, 0), p(r, 1), p(r, 2), u[i].sigma(0), u[i].sigma(1), u[i].sigma(2),

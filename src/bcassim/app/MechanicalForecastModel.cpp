@@ -139,6 +139,7 @@ void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen
 void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) {
   if (shared_ && worker_ == 0) shared_->factor = shared_->next;
   setParameters(params);
+  meanParams_ = params;
   if (options_.layout.positions && options_.layout.velocities) {
     unpackState(state, reference_);
     reference_.t += integrator_.options().dt;
@@ -178,7 +179,11 @@ void MechanicalForecastModel::refreshMeanTangent() {
     return;
   }
   shared_->stepsSinceTangent = 0;
-  tangentModel_ = model_;
+  // The build's own copy of the model (read by its thread): copied once, then only the
+  // estimated parameters change.
+  if (!tangentModel_) tangentModel_ = model_;
+  for (size_t i = 0; i < parameters_.size(); ++i)
+    applyParameter(parameters_[i], meanParams_(static_cast<Eigen::Index>(i)), *tangentModel_);
   tangentState_ = reference_;
   pendingTangent_ = std::async(std::launch::async, [this, analysis = shared_->tangent] {
     return FrozenTangent::build(*tangentModel_, tangentState_, integrator_.options().dt,
@@ -192,6 +197,7 @@ void MechanicalForecastModel::restoreReference(const MechanicalState& reference,
   pendingTangent_ = {};
   reference_ = reference;
   setParameters(params);
+  meanParams_ = params;
   if (options_.meanTangent && worker_ == 0) buildMeanTangent();
 }
 

@@ -116,6 +116,7 @@ class MechanicalForecastModel final : public ForecastModel {
   // Worker 0 with tangentInBackground: the model and mean the pending tangent is built from.
   // Declared last so that the pending build finishes before they are destroyed.
   std::optional<MechanicalModel> tangentModel_;
+  Eigen::VectorXd meanParams_;  // the analysed parameters of the last endStep
   MechanicalState tangentState_;
   std::future<std::shared_ptr<const FrozenTangent>> pendingTangent_;
 };
