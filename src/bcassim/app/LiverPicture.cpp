@@ -1,8 +1,6 @@
 #include "bcassim/app/LiverPicture.h"
 
 #include <fmt/format.h>
-#include <fstream>
-#include <regex>
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
@@ -32,6 +30,7 @@
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/io/MeshReader.h"
 #include "bcassim/io/PointReader.h"
+#include "bcassim/io/PvdSeries.h"
 #include "bcassim/mesh/BarycentricMap.h"
 #include "bcassim/mesh/BoundarySurface.h"
 
@@ -59,11 +58,9 @@ vtkSmartPointer<vtkActor> sphereActor(const Vec3& c, double radius, const Vec3& 
 // Times (s) of the volume frames of a run's simulation.pvd (part 0), in file order.
 std::vector<double> frameTimes(const fs::path& pvd) {
   std::vector<double> times;
-  std::ifstream in(pvd);
-  const std::regex entry(R"re(timestep="([^"]+)"[^>]*part="0")re");
-  std::smatch m;
-  for (std::string line; std::getline(in, line);)
-    if (std::regex_search(line, m, entry)) times.push_back(std::stod(m[1].str()));
+  if (!fs::exists(pvd)) return times;
+  for (const PvdEntry& e : readPvdIndex(pvd.string()))
+    if (e.part == 0) times.push_back(e.time);
   return times;
 }
 

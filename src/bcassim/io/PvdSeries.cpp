@@ -38,35 +38,40 @@ PvdSeries::PvdSeries(const std::string& directory, const std::string& baseName)
                                  ec ? fmt::format(" ({})", ec.message()) : ""));
 }
 
+std::vector<PvdEntry> readPvdIndex(const std::string& pvdPath) {
+  std::ifstream in(pvdPath);
+  if (!in) throw InputError(fmt::format("{}: cannot open", pvdPath));
+  // Our own index: one <DataSet timestep=".." group="" part="N" file=".."/> per line.
+  const std::regex entry(R"re(timestep="([^"]+)"[^>]*part="(\d+)"[^>]*file="([^"]+)")re");
+  std::vector<PvdEntry> entries;
+  std::smatch m;
+  for (std::string line; std::getline(in, line);)
+    if (std::regex_search(line, m, entry))
+      entries.push_back({std::stod(m[1].str()), std::stoi(m[2].str()), m[3].str()});
+  return entries;
+}
+
 PvdSeries PvdSeries::resume(const std::string& directory, const std::string& baseName,
                             int frames) {
   PvdSeries series(directory, baseName);
-  const std::string path = series.pvdPath();
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open (the series to resume)", path));
-  // Our own index: one <DataSet timestep=".." group="" part="N" file=".."/> per line.
-  const std::regex entry(R"re(timestep="([^"]+)"[^>]*part="(\d+)"[^>]*file="([^"]+)")re");
   const std::regex frameNumber(R"re(_(\d{6})\.vt[up]$)re");
-  std::smatch m, f;
-  for (std::string line; std::getline(in, line);) {
-    if (!std::regex_search(line, m, entry)) continue;
-    const std::string file = m[3].str();
-    if (!std::regex_search(file, f, frameNumber) || std::stoi(f[1].str()) >= frames) continue;
-    const int part = std::stoi(m[2].str());
-    if (part > 0) {  // <base>_<part>_<frame>.vtp: register the part name under its index
+  std::smatch f;
+  for (const PvdEntry& e : readPvdIndex(series.pvdPath())) {
+    if (!std::regex_search(e.file, f, frameNumber) || std::stoi(f[1].str()) >= frames) continue;
+    if (e.part > 0) {  // <base>_<part>_<frame>.vtp: register the part name under its index
       const std::string name =
-          file.substr(baseName.size() + 1, file.size() - baseName.size() - 1 - 11);
-      if (static_cast<int>(series.parts_.size()) <= part) series.parts_.resize(part + 1);
-      series.parts_[part] = name;
+          e.file.substr(baseName.size() + 1, e.file.size() - baseName.size() - 1 - 11);
+      if (static_cast<int>(series.parts_.size()) <= e.part) series.parts_.resize(e.part + 1);
+      series.parts_[static_cast<size_t>(e.part)] = name;
     } else {
       ++series.numFrames_;
     }
-    series.lastTime_ = std::stod(m[1].str());
-    series.entries_.push_back({series.lastTime_, part, file});
+    series.lastTime_ = e.time;
+    series.entries_.push_back(e);
   }
   if (series.numFrames_ < frames)
     throw InputError(fmt::format("{}: lists {} frames, expected at least {} (the checkpoint's)",
-                                 path, series.numFrames_, frames));
+                                 series.pvdPath(), series.numFrames_, frames));
   series.rewriteIndex();
   return series;
 }

@@ -10,6 +10,18 @@
 
 namespace bcassim {
 
+// One <DataSet> of a .pvd written by PvdSeries: time (s), part index (0: the mesh), file name
+// relative to the .pvd.
+struct PvdEntry {
+  double time = 0;
+  int part = 0;
+  std::string file;
+};
+
+// The entries of a .pvd written by PvdSeries, in file order. Throws InputError if it cannot be
+// opened.
+std::vector<PvdEntry> readPvdIndex(const std::string& pvdPath);
+
 class PvdSeries {
  public:
   // Files go to `directory` (created if missing) as <baseName>.pvd and <baseName>_000042.vtu.
@@ -38,11 +50,7 @@ class PvdSeries {
   std::string pvdPath() const;
 
  private:
-  struct Entry {
-    double time;
-    int part;
-    std::string file;  // relative to the directory
-  };
+  using Entry = PvdEntry;
 
   std::string partFile(const std::string& part, const char* extension, int* partIndex);
   void rewriteIndex() const;
