@@ -51,7 +51,9 @@ void BM_CholmodFactorize(benchmark::State& st, int targetNodes) {
   st.counters["nnz_L"] = static_cast<double>(factor.factorNonZeros());
 }
 
-void BM_CholmodSolve(benchmark::State& st, int targetNodes) {
+// precision: "double" = CHOLMOD's solve, "double-sweep" = our supernodal sweep in double,
+// "single" = the same sweep on L rounded to float (the single-precision preconditioner).
+void BM_CholmodSolve(benchmark::State& st, int targetNodes, const std::string& precision) {
   const Scene scene = makeCylinderScene(targetNodes);
   const MechanicalState s = warmedUpState(scene, kWarmupSteps);
   SparseMatrix A = scene.model.pattern->emptyMatrix();
@@ -61,7 +63,12 @@ void BM_CholmodSolve(benchmark::State& st, int targetNodes) {
   factor.factorize(A);
   CholeskyFactor::Workspace work;
   for (auto _ : st) {
-    factor.solve(rhs, x, work);
+    if (precision == "single")
+      factor.solveSinglePrecision(rhs, x, work);
+    else if (precision == "double-sweep")
+      factor.solveSupernodalDouble(rhs, x, work);
+    else
+      factor.solve(rhs, x, work);
     benchmark::DoNotOptimize(x.data());
   }
   addMeshCounters(st, scene.model);
@@ -128,9 +135,11 @@ void registerAll() {
     benchmark::RegisterBenchmark((p + "cholmod_factorize").c_str(),
                                  [n](State& st) { BM_CholmodFactorize(st, n); })
         ->Unit(kMillisecond);
-    benchmark::RegisterBenchmark((p + "cholmod_solve").c_str(),
-                                 [n](State& st) { BM_CholmodSolve(st, n); })
-        ->Unit(kMillisecond);
+    for (std::string precision : {"double", "double-sweep", "single"})
+      benchmark::RegisterBenchmark(
+          (p + "cholmod_solve" + (precision == "double" ? "" : "_" + precision)).c_str(),
+          [n, precision](State& st) { BM_CholmodSolve(st, n, precision); })
+          ->Unit(kMillisecond);
     benchmark::RegisterBenchmark((p + "step_cholmod").c_str(),
                                  [n](State& st) { BM_Step(st, n, "cholmod"); })
         ->Unit(kMillisecond)
@@ -151,19 +160,33 @@ void registerAll() {
           ->Iterations(kTimedSteps)
           ->UseRealTime();
     }
-    // Refresh every 4 steps on the second core while the old factor keeps preconditioning.
-    for (int every : {2, 4}) {
+    // The default policy with the factor rounded to single precision.
+    {
       RefreshPolicy policy;
-      policy.everyNMatrices = every;
-      policy.relTol = 1e-8;
-      policy.background = true;
-      benchmark::RegisterBenchmark(
-          (p + "step_factorized_pcg_background_every" + std::to_string(every)).c_str(),
-          [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
+      policy.singlePrecision = true;
+      benchmark::RegisterBenchmark((p + "step_factorized_pcg_single").c_str(),
+                                   [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
           ->Unit(kMillisecond)
           ->Iterations(kTimedSteps)
           ->UseRealTime();
     }
+    // Refresh every 2 or 4 steps on the second core while the old factor keeps preconditioning
+    // (relTol 1e-8), in double and single precision.
+    for (bool single : {false, true})
+      for (int every : {2, 4}) {
+        RefreshPolicy policy;
+        policy.everyNMatrices = every;
+        policy.relTol = 1e-8;
+        policy.background = true;
+        policy.singlePrecision = single;
+        benchmark::RegisterBenchmark((p + "step_factorized_pcg_background_every" +
+                                      std::to_string(every) + (single ? "_single" : ""))
+                                         .c_str(),
+                                     [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
+            ->Unit(kMillisecond)
+            ->Iterations(kTimedSteps)
+            ->UseRealTime();
+      }
     // Sanity check of the reuse: with the linear material the system matrix never changes, so
     // the stored factor is exact and PCG should need one or two iterations per step.
     benchmark::RegisterBenchmark((p + "step_factorized_pcg_linear").c_str(),

@@ -68,7 +68,8 @@ gravity: [0, 0, -9.81]
 damping: {rayleigh_mass: 0.1, rayleigh_stiffness: 0.01}
 time: {dt: 0.005, steps: 7}
 integrator: {type: implicit-euler, newton_iterations: 2, tolerance: 1e-8}
-solver: {type: factorized-pcg, refresh_every: 5, max_iterations: 30, tolerance: 1e-9}
+solver: {type: factorized-pcg, refresh_every: 5, max_iterations: 30, tolerance: 1e-9,
+         precision: double, refresh_in_background: true}
 fixed:
   - region: {box: {min: [-1, -1, -1], max: [0.001, 1, 1]}}
     components: [x, z]
@@ -91,6 +92,8 @@ output: {every: 3, pvd: false}
   EXPECT_EQ(s.solver.policy.everyNMatrices, 5);
   EXPECT_EQ(s.solver.policy.maxIterations, 30);
   EXPECT_DOUBLE_EQ(s.solver.policy.relTol, 1e-9);
+  EXPECT_FALSE(s.solver.policy.singlePrecision);
+  EXPECT_TRUE(s.solver.policy.background);
   // 4 nodes at x = 0, x and z held: 8 dofs.
   EXPECT_EQ(s.model.dirichlet.constrainedDofs().size(), 8u);
   ASSERT_EQ(s.model.loads.size(), 1u);
@@ -260,6 +263,10 @@ TEST(SceneLoader, ErrorsNameLineKeyAndExpectation) {
             "scene.yaml:2: mass: expected one of lumped, consistent, got 'heavy'");
   EXPECT_EQ(errorOf(b + "solver: {type: cholmod, tolerance: 1e-6}"),
             "scene.yaml:2: solver.tolerance: only for iterative solvers");
+  EXPECT_EQ(errorOf(b + "solver: {type: factorized-pcg, precision: half}"),
+            "scene.yaml:2: solver.precision: expected one of single, double, got 'half'");
+  EXPECT_EQ(errorOf(b + "solver: {type: cg, precision: double}"),
+            "scene.yaml:2: solver.precision: only for type factorized-pcg");
   EXPECT_EQ(
       errorOf(b +
               "fixed:\n  - region: {box: {min: [0,0,0], max: [1,1,1]}}\n    components: [x, w]"),

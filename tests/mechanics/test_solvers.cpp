@@ -262,6 +262,7 @@ TEST(SolverFactorizedPcg, RefactorizesInsideSolveWhenPcgNeedsTooManyIterations) 
   const Eigen::VectorXd b = randomVector(A0.rows(), 22);
   RefreshPolicy policy;
   policy.maxIterations = 1;
+  policy.singlePrecision = false;  // the exact factor must then converge in one iteration
   FactorizedPcgSolver solver(policy);
   solver.setMatrix(A0);
   solver.setMatrix(A1);
@@ -396,6 +397,50 @@ TEST(SolverCholeskyFactor, BlockSolveEqualsColumnByColumnSolves) {
     EXPECT_LE(relativeError(X.col(c), x), 1e-14) << "column " << c;
     EXPECT_LE((A * x - B.col(c)).norm() / B.col(c).norm(), 1e-12);
   }
+}
+
+TEST(SolverCholeskyFactor, SupernodalSweepsMatchCholmodInDoubleAndApproximateItInSingle) {
+  const SparseMatrix A = laplacian3d(12, 0.05);
+  CholeskyFactor factor;
+  factor.factorize(A);
+  const Eigen::VectorXd b = randomVector(A.rows(), 81);
+  CholeskyFactor::Workspace work;
+  Eigen::VectorXd x, xDouble, xSingle;
+  factor.solve(b, x, work);
+  factor.solveSupernodalDouble(b, xDouble, work);
+  factor.solveSinglePrecision(b, xSingle, work);
+  EXPECT_LE(relativeError(xDouble, x), 1e-13);
+  const double singleError = relativeError(xSingle, x);
+  EXPECT_GT(singleError, 1e-12) << "the single-precision path computed in double";
+  EXPECT_LE(singleError, 1e-4);
+  // A refactorisation replaces the float copy: the single-precision solve follows the new matrix.
+  const SparseMatrix A2 = perturb(A, 0.3, 82);
+  factor.factorize(A2);
+  factor.solveSinglePrecision(b, xSingle, work);
+  EXPECT_LE(relativeError(xSingle, directSolve(A2, b)), 1e-4);
+}
+
+TEST(SolverFactorizedPcg, SinglePrecisionPreconditionerStillConvergesInDouble) {
+  const SparseMatrix A0 = laplacian3d(14, 0.05);
+  const SparseMatrix A1 = perturb(A0, 0.05, 11);
+  const Eigen::VectorXd b = randomVector(A0.rows(), 12);
+  int iterations[2] = {0, 0};
+  for (bool single : {false, true}) {
+    RefreshPolicy policy;
+    policy.relTol = 1e-12;
+    policy.singlePrecision = single;
+    FactorizedPcgSolver pcg(policy);
+    pcg.setMatrix(A0);
+    pcg.setMatrix(A1);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(A1.rows());
+    const SolveStatus status = pcg.solve(b, x);
+    EXPECT_TRUE(status.converged);
+    EXPECT_FALSE(status.refactorized);
+    EXPECT_LE(relativeError(x, directSolve(A1, b)), 1e-9);
+    iterations[single] = status.iterations;
+  }
+  // Rounding L to float perturbs the preconditioner far less than the change from A0 to A1.
+  EXPECT_LE(iterations[1], iterations[0] + 1);
 }
 
 // --- errors ----------------------------------------------------------------------------------

@@ -528,12 +528,18 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   scene.statics.loadSteps = integ.integer("load_steps", 1, Range::AtLeastOne);
 
   MapReader solver(src, top.node("solver"), "solver",
-                   {"type", "refresh_every", "max_iterations", "tolerance"});
+                   {"type", "refresh_every", "max_iterations", "tolerance", "precision",
+                    "refresh_in_background"});
   scene.solver.type =
       solver.choice("type", "cholmod", {"cholmod", "cg", "jacobi-pcg", "factorized-pcg"});
   scene.solver.policy.everyNMatrices = solver.integer("refresh_every", 0);
   scene.solver.policy.maxIterations = solver.integer("max_iterations", 20, Range::AtLeastOne);
   scene.solver.policy.relTol = solver.number("tolerance", 1e-10, "-", Range::Positive);
+  scene.solver.policy.singlePrecision =
+      solver.choice("precision", "single", {"single", "double"}) == "single";
+  scene.solver.policy.background = solver.boolean("refresh_in_background", false);
+  for (const char* key : {"precision", "refresh_in_background"})
+    solver.rejectUnless(scene.solver.type == "factorized-pcg", key, "type factorized-pcg");
   solver.rejectUnless(scene.solver.type == "factorized-pcg", "refresh_every",
                       "type factorized-pcg");
   solver.rejectUnless(scene.solver.type == "factorized-pcg", "max_iterations",

@@ -6,7 +6,9 @@
 #include <cholmod.h>
 
 #include <atomic>
+#include <mutex>
 #include <new>
+#include <vector>
 #include <stdexcept>
 #include <string>
 
@@ -82,13 +84,21 @@ struct CholeskyFactor::Symbolic {
   ~Symbolic() { cholmod_free_factor(&L, &common.c); }
 };
 
+// The values of a supernodal L rounded to float, made by the first single-precision solve.
+struct SingleCopy {
+  std::once_flag made;
+  std::vector<float> x;
+};
+
 struct CholeskyFactor::Numeric {
   Common common;
   cholmod_factor* L = nullptr;  // numerical factor, valid when factorized
   bool factorized = false;
+  std::unique_ptr<SingleCopy> single = std::make_unique<SingleCopy>();
   void release() {
     cholmod_free_factor(&L, &common.c);
     factorized = false;
+    single = std::make_unique<SingleCopy>();
   }
   ~Numeric() { release(); }
 };
@@ -99,6 +109,8 @@ struct CholeskyFactor::Workspace::Impl {
   cholmod_dense* Y = nullptr;  // permuted right-hand sides
   cholmod_dense* E = nullptr;  // supernodal solve scratch
   cholmod_sparse* Xset = nullptr;
+  Eigen::VectorXf yf, tf;  // single-precision sweep: permuted vector, off-diagonal products
+  Eigen::VectorXd yd, td;  // the same in double
   ~Impl() {
     cholmod_free_dense(&X, &common.c);
     cholmod_free_dense(&Y, &common.c);
@@ -149,6 +161,7 @@ void CholeskyFactor::factorize(const SparseMatrix& A) {
   if (!matchesPattern(A)) analyzePattern(A);
   Numeric& num = *numeric_;
   num.factorized = false;
+  num.single = std::make_unique<SingleCopy>();
   if (num.L == nullptr) {
     num.L = cholmod_copy_factor(symbolic_->L, &num.common.c);
     check(num.L != nullptr, num.common.c, "Cholesky factor allocation");
@@ -211,6 +224,81 @@ void CholeskyFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, Workspa
 void CholeskyFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
   Workspace work;
   solve(b, x, work);
+}
+
+namespace {
+
+// x = P^T L^{-T} L^{-1} P b over the supernodes of L (CHOLMOD's layout: supernode k holds columns
+// super[k]..super[k+1]-1 as a column-major block of nsrow rows, whose first nscol row indices are
+// those columns), with the values Lx in the working precision of y and t.
+template <typename Scalar>
+void supernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Eigen::VectorXd& b,
+                     Eigen::VectorXd& x, Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& y,
+                     Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& t) {
+  using Block = Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>, 0,
+                           Eigen::OuterStride<>>;
+  const auto n = static_cast<Eigen::Index>(L.n);
+  const auto nsuper = static_cast<int>(L.nsuper);
+  const int* super = static_cast<const int*>(L.super);
+  const int* pi = static_cast<const int*>(L.pi);
+  const int* px = static_cast<const int*>(L.px);
+  const int* rows = static_cast<const int*>(L.s);
+  const int* perm = static_cast<const int*>(L.Perm);
+  y.resize(n);
+  t.resize(static_cast<Eigen::Index>(L.maxesize));
+  for (Eigen::Index i = 0; i < n; ++i) y[i] = static_cast<Scalar>(b[perm[i]]);
+
+  for (int k = 0; k < nsuper; ++k) {  // L y = P b
+    const int first = super[k], nscol = super[k + 1] - first;
+    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
+    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
+    auto yk = y.segment(first, nscol);
+    block.topRows(nscol).template triangularView<Eigen::Lower>().solveInPlace(yk);
+    if (below == 0) continue;
+    auto tk = t.head(below);
+    tk.noalias() = block.bottomRows(below) * yk;
+    const int* r = rows + pi[k] + nscol;
+    for (int i = 0; i < below; ++i) y[r[i]] -= tk[i];
+  }
+  for (int k = nsuper - 1; k >= 0; --k) {  // L^T y = y
+    const int first = super[k], nscol = super[k + 1] - first;
+    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
+    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
+    auto yk = y.segment(first, nscol);
+    if (below > 0) {
+      auto tk = t.head(below);
+      const int* r = rows + pi[k] + nscol;
+      for (int i = 0; i < below; ++i) tk[i] = y[r[i]];
+      yk.noalias() -= block.bottomRows(below).transpose() * tk;
+    }
+    block.topRows(nscol).template triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
+  }
+  x.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = static_cast<double>(y[i]);
+}
+
+}  // namespace
+
+void CholeskyFactor::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                          Workspace& work) const {
+  if (!isFactorized()) throw std::logic_error("CholeskyFactor::solve before a factorisation");
+  if (b.size() != rows()) throw std::invalid_argument("CholeskyFactor::solve: wrong size of b");
+  const cholmod_factor& L = *numeric_->L;
+  SingleCopy& single = *numeric_->single;
+  std::call_once(single.made, [&] {
+    const double* Lx = static_cast<const double*>(L.x);
+    single.x.assign(Lx, Lx + L.xsize);
+  });
+  Workspace::Impl& w = *work.impl_;
+  supernodalSolve(L, single.x.data(), b, x, w.yf, w.tf);
+}
+
+void CholeskyFactor::solveSupernodalDouble(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                           Workspace& work) const {
+  if (!isFactorized()) throw std::logic_error("CholeskyFactor::solve before a factorisation");
+  if (b.size() != rows()) throw std::invalid_argument("CholeskyFactor::solve: wrong size of b");
+  Workspace::Impl& w = *work.impl_;
+  supernodalSolve(*numeric_->L, static_cast<const double*>(numeric_->L->x), b, x, w.yd, w.td);
 }
 
 bool CholeskyFactor::isAnalyzed() const { return symbolic_ != nullptr; }

@@ -50,6 +50,15 @@ class CholeskyFactor {
   // Block of right-hand sides, one per column of B: X = A^{-1} B in one sweep over L.
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, Workspace& work) const;
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const;
+  // x ~ A^{-1} b with L rounded to single precision (a copy made at the first call after each
+  // factorisation): relative error ~1e-6 times A's condition, so only for preconditioning. The
+  // supernodal solves are memory-bound; a float L halves their traffic, and a factor that fits
+  // in a core's cache only as floats stops the sigma-point threads competing for memory.
+  // Thread-safe like solve().
+  void solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x, Workspace& work) const;
+  // The same supernodal sweep in double precision on L itself (a check of the float path; CHOLMOD's
+  // solve() is the production double path).
+  void solveSupernodalDouble(const Eigen::VectorXd& b, Eigen::VectorXd& x, Workspace& work) const;
 
   bool isAnalyzed() const;
   bool isFactorized() const;

@@ -10,15 +10,21 @@ namespace bcassim {
 // that each thread uses its own workspace (the factor is only read).
 class CholeskyPreconditioner final : public Preconditioner {
  public:
-  CholeskyPreconditioner(const CholeskyFactor& factor, CholeskyFactor::Workspace& work)
-      : factor_(factor), work_(work) {}
+  // singlePrecision: apply L rounded to float (CholeskyFactor::solveSinglePrecision).
+  CholeskyPreconditioner(const CholeskyFactor& factor, CholeskyFactor::Workspace& work,
+                         bool singlePrecision = false)
+      : factor_(factor), work_(work), singlePrecision_(singlePrecision) {}
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override {
-    factor_.solve(r, z, work_);
+    if (singlePrecision_)
+      factor_.solveSinglePrecision(r, z, work_);
+    else
+      factor_.solve(r, z, work_);
   }
 
  private:
   const CholeskyFactor& factor_;
   CholeskyFactor::Workspace& work_;
+  bool singlePrecision_;
 };
 
 }  // namespace bcassim

@@ -67,7 +67,7 @@ void FactorizedPcgSolver::shareFactor(std::shared_ptr<CholeskyFactor> factor) {
 SolveStatus FactorizedPcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (A_ == nullptr) throw std::logic_error("FactorizedPcgSolver::solve before setMatrix");
   adoptFinishedRefresh();
-  SolveStatus first = preconditionedCg(*A_, b, x, CholeskyPreconditioner(*factor_, factorWork_),
+  SolveStatus first = preconditionedCg(*A_, b, x, CholeskyPreconditioner(*factor_, factorWork_, policy_.singlePrecision),
                                        policy_.relTol, policy_.maxIterations, cgWork_);
   if (first.converged) return first;
 
@@ -75,7 +75,7 @@ SolveStatus FactorizedPcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd
   // solution is exact up to rounding, so PCG from there only confirms (or refines) it.
   refactorize();
   factor_->solve(b, x, factorWork_);
-  SolveStatus second = preconditionedCg(*A_, b, x, CholeskyPreconditioner(*factor_, factorWork_),
+  SolveStatus second = preconditionedCg(*A_, b, x, CholeskyPreconditioner(*factor_, factorWork_, policy_.singlePrecision),
                                         policy_.relTol, policy_.maxIterations, cgWork_);
   second.iterations += first.iterations;
   second.refactorized = true;
