@@ -283,14 +283,19 @@ void CholeskyFactor::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::Vecto
                                           Workspace& work) const {
   if (!isFactorized()) throw std::logic_error("CholeskyFactor::solve before a factorisation");
   if (b.size() != rows()) throw std::invalid_argument("CholeskyFactor::solve: wrong size of b");
+  prepareSinglePrecision();
+  Workspace::Impl& w = *work.impl_;
+  supernodalSolve(*numeric_->L, numeric_->single->x.data(), b, x, w.yf, w.tf);
+}
+
+void CholeskyFactor::prepareSinglePrecision() const {
+  if (!isFactorized()) throw std::logic_error("CholeskyFactor: no factorisation to round");
   const cholmod_factor& L = *numeric_->L;
   SingleCopy& single = *numeric_->single;
   std::call_once(single.made, [&] {
     const double* Lx = static_cast<const double*>(L.x);
     single.x.assign(Lx, Lx + L.xsize);
   });
-  Workspace::Impl& w = *work.impl_;
-  supernodalSolve(L, single.x.data(), b, x, w.yf, w.tf);
 }
 
 void CholeskyFactor::solveSupernodalDouble(const Eigen::VectorXd& b, Eigen::VectorXd& x,

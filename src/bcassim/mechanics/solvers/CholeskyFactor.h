@@ -56,6 +56,9 @@ class CholeskyFactor {
   // in a core's cache only as floats stops the sigma-point threads competing for memory.
   // Thread-safe like solve().
   void solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x, Workspace& work) const;
+  // Makes that float copy now (e.g. on the thread that factorised) instead of at the first
+  // single-precision solve.
+  void prepareSinglePrecision() const;
   // The same supernodal sweep in double precision on L itself (a check of the float path; CHOLMOD's
   // solve() is the production double path).
   void solveSupernodalDouble(const Eigen::VectorXd& b, Eigen::VectorXd& x, Workspace& work) const;

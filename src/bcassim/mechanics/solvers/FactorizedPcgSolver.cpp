@@ -33,10 +33,12 @@ void FactorizedPcgSolver::setMatrix(const SparseMatrix& A) {
   } else if (due && policy_.background) {
     if (!pending_.valid()) {
       std::shared_ptr<CholeskyFactor> next = factor_->cloneAnalysis();
-      pending_ = std::async(std::launch::async, [next, copy = SparseMatrix(A)] {
-        next->factorize(copy);
-        return next;
-      });
+      pending_ = std::async(std::launch::async,
+                            [next, copy = SparseMatrix(A), single = policy_.singlePrecision] {
+                              next->factorize(copy);
+                              if (single) next->prepareSinglePrecision();
+                              return next;
+                            });
     }
     matricesSinceFactorization_ = 1;
   } else if (due) {
@@ -54,6 +56,7 @@ void FactorizedPcgSolver::adoptFinishedRefresh() {
 
 void FactorizedPcgSolver::refactorize() {
   factorizeUnshared(factor_, *A_);
+  if (policy_.singlePrecision) factor_->prepareSinglePrecision();
   matricesSinceFactorization_ = 1;
   ++factorizations_;
 }
