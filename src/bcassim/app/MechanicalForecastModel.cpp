@@ -16,7 +16,13 @@ MechanicalForecastModel::MechanicalForecastModel(
     const MechanicalState& initial, ForecastModelOptions options, int worker,
     std::shared_ptr<SharedFactorization> shared)
     : model_(model),
-      integrator_(model_, makeLinearSolver(options.solver, options.refresh), integrator),
+      // One integrator steps every sigma point of its worker in turn: extrapolating across
+      // different states would not predict the next one.
+      integrator_(model_, makeLinearSolver(options.solver, options.refresh),
+                  [integrator]() mutable {
+                    integrator.extrapolateGuess = false;
+                    return integrator;
+                  }()),
       observed_(std::move(observed)),
       parameters_(std::move(parameters)),
       reference_(initial),

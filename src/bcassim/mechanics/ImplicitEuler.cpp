@@ -59,9 +59,15 @@ void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
 
   t0 = Clock::now();
   solver_->setMatrix(A_);
-  // The previous step's velocity change is a good initial guess for iterative solvers: motion
-  // is smooth over one camera frame.
-  if (dv_.size() != rhs_.size()) dv_ = Eigen::VectorXd::Zero(rhs_.size());
+  // The previous steps' velocity changes make a good initial guess for iterative solvers:
+  // motion is smooth over one camera frame.
+  if (stepDv_.size() != rhs_.size()) {
+    dv_ = Eigen::VectorXd::Zero(rhs_.size());
+  } else if (options_.extrapolateGuess && previousStepDv_.size() == stepDv_.size()) {
+    dv_ = 2.0 * stepDv_ - previousStepDv_;
+  } else {
+    dv_ = stepDv_;
+  }
   timings_.lastSolve = solver_->solve(rhs_, dv_);
   ++timings_.linearSolves;
   timings_.solve += seconds(t0, Clock::now());
@@ -102,6 +108,8 @@ void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
   }
   s.t = tNext;
   checkFinite(model, s);
+  previousStepDv_.swap(stepDv_);
+  stepDv_ = s.v - v0;
   timings_.total = seconds(start, Clock::now());
 }
 

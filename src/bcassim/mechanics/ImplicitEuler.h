@@ -14,6 +14,10 @@ struct ImplicitEulerOptions {
   double dt = 0.01;          // s
   int newtonIterations = 0;  // extra Newton iterations after the eq. 2.16 step (0 = thesis)
   double newtonTolerance = 1e-10;  // relative residual norm that stops the extra iterations
+  // Initial guess of an iterative solver: the linear extrapolation 2 dv_n - dv_(n-1) of the last
+  // two steps' velocity changes (else the last one). For one trajectory; an integrator that
+  // steps many different states in turn (sigma points) should use only the last one.
+  bool extrapolateGuess = true;
 };
 
 // Wall-clock seconds spent in the parts of the last step.
@@ -56,6 +60,7 @@ class ImplicitEuler {
   ImplicitEulerOptions options_;
   SparseMatrix A_;
   Eigen::VectorXd fint_, fext_, Mv_, Kv_, rhs_, dv_, rest_, knownDv_;
+  Eigen::VectorXd stepDv_, previousStepDv_;  // velocity changes of the last two steps
   CholeskyFactor::Workspace factorWork_;
   StepTimings timings_;
 };
