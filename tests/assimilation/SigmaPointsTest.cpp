@@ -6,6 +6,7 @@
 #include "assimilation/AssimilationTestModels.h"
 #include "bcassim/Error.h"
 #include "bcassim/assimilation/CanonicalSigmaPoints.h"
+#include "bcassim/assimilation/LargeDenseKernels.h"
 #include "bcassim/assimilation/SimplexSigmaPoints.h"
 #include "bcassim/assimilation/StarSigmaPoints.h"
 
@@ -49,6 +50,36 @@ TEST(SigmaPoints, ReproduceMeanAndCovarianceOfRandomSpdMatrices) {
       }
     }
   }
+}
+
+// A full-state filter has thousands of entries: the structured products (O(n^2)) and the BLAS
+// Gram matrix and Cholesky (above kLargeDense) must equal the plain dense formulas.
+TEST(SigmaPoints, StructuredPointsAndLargeKernelsEqualTheDenseFormulas) {
+  std::mt19937 rng(8);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const Eigen::Index n = kLargeDense + 57;
+  const Eigen::MatrixXd P = testing::randomSpd(n, rng);
+  Eigen::VectorXd mean(n);
+  for (Eigen::Index i = 0; i < n; ++i) mean[i] = g(rng);
+  Eigen::MatrixXd S;
+  ASSERT_TRUE(choleskyLower(P, S));
+  const Eigen::MatrixXd eigenL = P.llt().matrixL();
+  EXPECT_LT((S - eigenL).cwiseAbs().maxCoeff(), 1e-10 * eigenL.cwiseAbs().maxCoeff());
+  for (const auto& [name, set] : setsOfDimension(n)) {
+    EXPECT_NE(set.structure, UnitStructure::Dense) << name;
+    const Eigen::MatrixXd X = set.points(mean, S);
+    const Eigen::MatrixXd dense = (S * set.unit).colwise() + mean;
+    EXPECT_LT((X - dense).cwiseAbs().maxCoeff(), 1e-11 * dense.cwiseAbs().maxCoeff()) << name;
+    const Eigen::MatrixXd D = X.colwise() - set.meanOf(X);
+    Eigen::MatrixXd gram;
+    weightedGram(D, set.weights, gram);
+    const Eigen::MatrixXd reference = D * set.weights.asDiagonal() * D.transpose();
+    EXPECT_LT((gram - reference).cwiseAbs().maxCoeff(), 1e-11 * P.cwiseAbs().maxCoeff()) << name;
+    EXPECT_LT((gram - P).cwiseAbs().maxCoeff(), 1e-9 * P.cwiseAbs().maxCoeff()) << name;
+  }
+  Eigen::MatrixXd notSpd = P;
+  notSpd(n - 1, n - 1) = -1.0;
+  EXPECT_FALSE(choleskyLower(notSpd, S));
 }
 
 TEST(SigmaPoints, SimplexPointsAreEquidistantFromTheMean) {

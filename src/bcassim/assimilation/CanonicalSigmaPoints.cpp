@@ -18,6 +18,7 @@ SigmaPointSet canonicalSigmaPoints(Eigen::Index n) {
     set.unit(k, k) = scale;
     set.unit(k, n + k) = -scale;
   }
+  set.structure = UnitStructure::SignedColumns;
   return set;
 }
 

@@ -5,24 +5,27 @@
 #include <cmath>
 
 #include "bcassim/Error.h"
+#include "bcassim/assimilation/LargeDenseKernels.h"
 
 namespace bcassim {
 
 Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log) {
   if (!P.allFinite()) throw NumericalError("covariance has non-finite entries");
-  Eigen::LLT<Eigen::MatrixXd> llt(P);
-  if (llt.info() == Eigen::Success) return llt.matrixL();
+  Eigen::MatrixXd L;
+  if (choleskyLower(P, L)) return L;
 
   const Eigen::Index n = P.rows();
-  const Eigen::MatrixXd S = 0.5 * (P + P.transpose());
+  Eigen::MatrixXd S = 0.5 * (P + P.transpose());
   // Scale the jitter to the matrix so that repairs are relative, whatever the units.
   const double scale = n > 0 ? std::max(S.diagonal().cwiseAbs().mean(), 1e-300) : 1.0;
+  double added = 0.0;
   for (double jitter = 1e-10 * scale; jitter <= 1e10 * scale; jitter *= 10) {
-    llt.compute(S + jitter * Eigen::MatrixXd::Identity(n, n));
-    if (llt.info() == Eigen::Success) {
+    S.diagonal().array() += jitter - added;
+    added = jitter;
+    if (choleskyLower(S, L)) {
       ++log.repairs;
       log.largestJitter = std::max(log.largestJitter, jitter);
-      return llt.matrixL();
+      return L;
     }
   }
   throw NumericalError("covariance is not positive definite and jitter did not repair it");

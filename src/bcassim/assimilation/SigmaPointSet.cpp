@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 #include "bcassim/Error.h"
+#include "bcassim/assimilation/LargeDenseKernels.h"
 #include "bcassim/assimilation/CanonicalSigmaPoints.h"
 #include "bcassim/assimilation/SimplexSigmaPoints.h"
 #include "bcassim/assimilation/StarSigmaPoints.h"
@@ -19,14 +22,42 @@ SigmaPointKind parseSigmaPointKind(std::string_view name) {
 
 Eigen::MatrixXd SigmaPointSet::points(const Eigen::VectorXd& mean,
                                       const Eigen::MatrixXd& sqrtCov) const {
-  Eigen::MatrixXd X = sqrtCov * unit;
+  if (sqrtCov.cols() != unit.rows() || sqrtCov.rows() != mean.size())
+    throw std::invalid_argument("SigmaPointSet::points: factor and mean do not fit the set");
+  const Eigen::Index r = unit.rows(), s = unit.cols();
+  Eigen::MatrixXd X(mean.size(), s);
+  switch (structure) {
+    case UnitStructure::Dense:
+      X.noalias() = sqrtCov * unit;
+      break;
+    case UnitStructure::SignedColumns:
+      for (Eigen::Index k = 0; k < s; ++k) {
+        Eigen::Index row = 0;
+        const double value = unit.col(k).cwiseAbs().maxCoeff(&row);
+        X.col(k) = value == 0.0 ? Eigen::VectorXd::Zero(X.rows()).eval()
+                                : (unit(row, k) * sqrtCov.col(row)).eval();
+      }
+      break;
+    case UnitStructure::Simplex: {
+      // Column k = sum over rows i >= k of c_(i+1) S_i, plus -k c_k S_(k-1): suffix sums.
+      Eigen::VectorXd suffix = Eigen::VectorXd::Zero(X.rows());
+      for (Eigen::Index k = s - 1; k >= 0; --k) {
+        if (k < r) suffix += unit(k, 0) * sqrtCov.col(k);
+        X.col(k) = suffix;
+        if (k >= 1) X.col(k) += unit(k - 1, k) * sqrtCov.col(k - 1);
+      }
+      break;
+    }
+  }
   X.colwise() += mean;
   return X;
 }
 
 Eigen::MatrixXd SigmaPointSet::covarianceOf(const Eigen::MatrixXd& X) const {
   const Eigen::MatrixXd D = X.colwise() - meanOf(X);
-  return D * weights.asDiagonal() * D.transpose();
+  Eigen::MatrixXd P;
+  weightedGram(D, weights, P);
+  return P;
 }
 
 SigmaPointSet makeSigmaPoints(SigmaPointKind kind, Eigen::Index n) {

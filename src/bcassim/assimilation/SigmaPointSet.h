@@ -16,9 +16,18 @@ enum class SigmaPointKind {
 // Parses "star", "canonical" or "simplex"; throws InputError otherwise.
 SigmaPointKind parseSigmaPointKind(std::string_view name);
 
+// What points() may exploit instead of a dense product with `unit` (O(n^2) instead of O(n^3) for
+// a full-state filter with thousands of entries).
+enum class UnitStructure {
+  Dense,          // any unit matrix
+  SignedColumns,  // at most one nonzero per column (star, canonical)
+  Simplex,        // eq. 3.6: row j-1 holds c_j in columns 0..j-1 and -j c_j in column j
+};
+
 struct SigmaPointSet {
   Eigen::MatrixXd unit;     // n x s: column k is I^(k)
   Eigen::VectorXd weights;  // s weights, summing to 1
+  UnitStructure structure = UnitStructure::Dense;
 
   Eigen::Index count() const { return unit.cols(); }
   // n x s points mean + sqrtCov * I^(k); sqrtCov is any n x r factor with r = unit.rows().

@@ -19,6 +19,7 @@ SigmaPointSet simplexSigmaPoints(Eigen::Index n) {
     set.unit.row(j - 1).head(j).setConstant(c);
     set.unit(j - 1, j) = -static_cast<double>(j) * c;
   }
+  set.structure = UnitStructure::Simplex;
   return set;
 }
 

@@ -21,6 +21,7 @@ SigmaPointSet starSigmaPoints(Eigen::Index n, double kappa) {
     set.unit(k, 1 + k) = scale;
     set.unit(k, 1 + n + k) = -scale;
   }
+  set.structure = UnitStructure::SignedColumns;
   return set;
 }
 

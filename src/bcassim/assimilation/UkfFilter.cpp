@@ -7,6 +7,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/assimilation/CovarianceRepair.h"
+#include "bcassim/assimilation/LargeDenseKernels.h"
 #include "bcassim/assimilation/ObservedSubset.h"
 #include "bcassim/assimilation/StarSigmaPoints.h"
 
@@ -63,7 +64,7 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   const Eigen::VectorXd& w = sigma_.weights;
   x_ = sigma_.meanOf(Xf);
   const Eigen::MatrixXd dX = Xf.colwise() - x_;
-  P_ = dX * w.asDiagonal() * dX.transpose();
+  weightedGram(dX, w, P_);
   if (options_.processVariance.size() != 0) P_.diagonal() += options_.processVariance;
 
   // Correction (Alg. 1 lines 17-24) with the present entries only.
