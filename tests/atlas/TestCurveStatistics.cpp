@@ -122,6 +122,50 @@ TEST(CurveStatistics, MedianIgnoresAnOutlierCurve) {
   }
 }
 
+TEST(CurveStatistics, HampelIdentifierRejectsFarPointsOnly) {
+  // Points on a line, median 0 (9 points): distances 0, 1, 1, 2, 2, 2.5, 2.5, 40, 0.5; their
+  // median is 2, the robust sigma 1.4826 * 2 = 2.97. k = 3 keeps all but 40 (8.9 limit); k = 0.8
+  // (2.37) rejects the points at 2.5 as well.
+  std::vector<Eigen::Vector3d> p;
+  for (double x : {0.0, 1.0, -1.0, 2.0, -2.0, 2.5, -2.5, 40.0, -0.5}) p.emplace_back(x, 0.0, 0.0);
+  EXPECT_EQ(hampelInliers(p, 3.0), (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 8}));
+  EXPECT_EQ(hampelInliers(p, 0.8), (std::vector<int>{0, 1, 2, 3, 4, 8}));
+  // Fewer than 3 points: nothing to judge by.
+  EXPECT_EQ(hampelInliers({p[0], p[7]}, 3.0), (std::vector<int>{0, 1}));
+  EXPECT_THROW(hampelInliers(p, 0.0), InputError);
+}
+
+TEST(CurveStatistics, TrimmedMeanIgnoresAnOutlierCurveThatMovesTheMean) {
+  // Five arcs fanned by small rotations (the typical curves) and one rotated far away (an
+  // atypical annotation or a failed registration). The plain mean is pulled towards the outlier;
+  // the trimmed mean is the mean of the five, and so is its sigma.
+  const double R = 0.08;
+  std::vector<Eigen::MatrixX3d> typical;
+  for (double phi : {-0.06, -0.03, 0.0, 0.02, 0.05}) typical.push_back(rotatedArc(R, phi, 1.0, 401));
+  std::vector<Eigen::MatrixX3d> curves = typical;
+  curves.push_back(rotatedArc(R, 0.7, 1.0, 401));
+  const CuttingPlaneFamily f = radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-0.5, 0.0, 0.5});
+  const auto plain = curveStatistics(curves, f);
+  const auto trimmed = curveStatistics(curves, f, CurveCentre::Trimmed);
+  const auto inliers = curveStatistics(typical, f);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(trimmed[k].count, 6);
+    EXPECT_EQ(trimmed[k].kept, 5);
+    EXPECT_EQ(plain[k].kept, 6);
+    EXPECT_NEAR((trimmed[k].mean - inliers[k].mean).norm(), 0.0, 1e-14);
+    EXPECT_NEAR(trimmed[k].sigma, inliers[k].sigma, 1e-14);
+    // The outlier moves the plain mean by about 0.7 R / 6 ~ 9 mm.
+    EXPECT_GT((plain[k].mean - inliers[k].mean).norm(), 5e-3);
+  }
+  // Without an outlier the trimmed mean is the mean.
+  const auto clean = curveStatistics(typical, f, CurveCentre::Trimmed);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(clean[k].kept, 5);
+    EXPECT_NEAR((clean[k].mean - inliers[k].mean).norm(), 0.0, 1e-14);
+  }
+  EXPECT_THROW(curveStatistics(curves, f, CurveCentre::Trimmed, -1.0), InputError);
+}
+
 TEST(CurveStatistics, PlanesBeyondTheCurvesAreEmpty) {
   const std::vector<Eigen::MatrixX3d> curves = {rotatedArc(0.08, 0.1, 0.5, 101)};
   const CuttingPlaneFamily f = radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.0, 1.0, kPi});
@@ -174,6 +218,31 @@ TEST(CurveAtlas, MeanProjectedOnTemplateAndCarriedByDeformation) {
   const Eigen::MatrixX3d expectMean = ((2.0 * same.mean) * rot.transpose()).rowwise() + shift;
   EXPECT_NEAR((moved.mean - expectMean).cwiseAbs().maxCoeff(), 0.0, 1e-14);
   EXPECT_NEAR((moved.sigma - 2.0 * same.sigma).cwiseAbs().maxCoeff(), 0.0, 1e-14);
+}
+
+TEST(CurveAtlas, ProjectOntoMovesTheCarriedCurveOntoTheSurface) {
+  const double R = 0.08;
+  const TriMesh sphere = test::makeIcosphere(R, 4);
+  const std::vector<Eigen::MatrixX3d> curves = {rotatedArc(R, 0.2, 1.0, 801),
+                                                rotatedArc(R, -0.2, 1.0, 801)};
+  const CuttingPlaneFamily f = radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, evenAngles(-0.8, 0.8, 9));
+  const CurveAtlas atlas = buildCurveAtlas(sphere, curves, f, 2);
+  // A deformation that leaves the curve 10 % outside the sphere (a registration that falls short
+  // of the patient): projected, it lies on the sphere again, in the same directions.
+  const CarriedCurve off = carryCurve(atlas, 1.1 * sphere.V);
+  const CarriedCurve on = projectOnto(off, sphere);
+  const double meshTol = 4e-4;  // level-4 icosphere faces within R (1 - cos(edge/2)) of the sphere
+  for (Eigen::Index i = 0; i < off.mean.rows(); ++i) {
+    EXPECT_NEAR(off.mean.row(i).norm(), 1.1 * R, 1.1 * meshTol) << i;
+    EXPECT_NEAR(on.mean.row(i).norm(), R, meshTol) << i;
+    EXPECT_NEAR(on.lower.row(i).norm(), R, meshTol) << i;
+    EXPECT_NEAR(on.upper.row(i).norm(), R, meshTol) << i;
+    EXPECT_NEAR(on.mean.row(i).normalized().dot(off.mean.row(i).normalized()), 1.0, 1e-4) << i;
+    EXPECT_NEAR(on.sigma(i), off.sigma(i) / 1.1, 0.05 * on.sigma(i)) << i;
+  }
+  // Points already on the surface stay.
+  const CarriedCurve same = carryCurve(atlas, sphere.V);
+  EXPECT_LT((projectOnto(same, sphere).mean - same.mean).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 TEST(CurveAtlas, RejectsTooFewCrossings) {

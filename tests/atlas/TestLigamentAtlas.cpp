@@ -14,6 +14,7 @@
 #include "bcassim/atlas/CurveComparison.h"
 #include "bcassim/atlas/LigamentAtlas.h"
 #include "bcassim/atlas/LigamentAtlasFile.h"
+#include "bcassim/mesh/ClosestPoint.h"
 
 namespace bcassim {
 namespace {
@@ -170,7 +171,13 @@ TEST(LigamentAtlas, TransferFollowsAScaledRotatedPatient) {
   EXPECT_GT(rigidErr, 4e-3);
   // The band is carried too, with about the atlas sigma scaled by 1.1.
   for (Eigen::Index i = 0; i < t.curve.sigma.rows(); ++i)
-    EXPECT_NEAR(t.curve.sigma(i), 1.1 * onTemplate.sigma(i), 0.3 * onTemplate.sigma(i));
+    EXPECT_NEAR(t.curve.sigma(i), 1.1 * onTemplate.sigma(i), 0.3 * onTemplate.sigma(i));  // Projected onto the patient: on its surface, and no farther from the expected curve.
+  const AtlasTransfer p = transferAtlas(atlas, patient, ro, true, true);
+  const SurfaceLocator onPatient(patient);
+  for (Eigen::Index i = 0; i < p.curve.mean.rows(); ++i) {
+    EXPECT_LT(onPatient.closest(p.curve.mean.row(i).transpose()).distance, 1e-12) << i;
+    EXPECT_LT((p.curve.mean.row(i) - expected.row(i)).norm(), 0.5e-3) << i;
+  }
 }
 
 TEST(LigamentAtlas, FilesRoundTrip) {
@@ -218,28 +225,76 @@ TEST(CurveComparison, ParallelCurvesAtKnownDistance) {
 namespace bcassim {
 namespace {
 
+// The organs of subjects(d) plus a fourth copy of the first (curve at x = 0), scaled by `scale`
+// and rigidly moved unless `moved` is false.
+std::vector<AtlasSubject> fourOrgans(double d, double scale = 1.0, bool moved = true) {
+  std::vector<AtlasSubject> s = subjects(d);
+  AtlasSubject fourth = s[0];
+  fourth.name = "s3";
+  const RigidTransform m = motion(moved ? 0.3 : 0.0, {0, 1, 0}, {moved ? 0.02 : 0.0, 0.0, 0.0});
+  fourth.surface.V = m.apply(scale * fourth.surface.V);
+  fourth.curve = m.apply(scale * fourth.curve);
+  s.push_back(fourth);
+  return s;
+}
+
+// Folds holding out the fourth and the second organ; planes crossed by all remaining curves.
+LeaveOneOutOptions foldsOfFourOrgans() {
+  LeaveOneOutOptions o;
+  o.atlas = quickOptions();
+  o.atlas.minCrossingFraction = 0.9;
+  o.heldOut = {3, 1};
+  return o;
+}
+
 TEST(AtlasLeaveOneOut, HeldOutErrorIsTheOffsetFromTheOthersMean) {
   // Four copies of the organ, rigidly moved, with curves at x = 0 (template), -d, +d and 0.
   // Holding out the fourth leaves curves at 0, -d, d: mean at 0, error ~ 0. Holding out the
   // second (at -d) leaves 0, d, 0: mean at d/3, error 4d/3.
   const double d = 0.009;
-  std::vector<AtlasSubject> s = subjects(d);
-  AtlasSubject fourth = s[0];
-  fourth.name = "s3";
-  const RigidTransform m = motion(0.3, {0, 1, 0}, {0.02, 0.0, 0.0});
-  fourth.surface.V = m.apply(fourth.surface.V);
-  fourth.curve = m.apply(fourth.curve);
-  s.push_back(fourth);
-  LeaveOneOutOptions o;
-  o.atlas = quickOptions();
-  o.atlas.minCrossingFraction = 0.9;  // planes crossed by all three remaining curves
-  o.heldOut = {3, 1};
+  const std::vector<AtlasSubject> s = fourOrgans(d);
+  const LeaveOneOutOptions o = foldsOfFourOrgans();
   const LeaveOneOutResult r = leaveOneOut(s, o);
   ASSERT_EQ(r.folds.size(), 2u);
   EXPECT_GE(r.folds[0].distance.planes, 5);
   EXPECT_LT(r.folds[0].distance.planeMean, 1e-3);
   EXPECT_NEAR(r.folds[1].distance.planeMean, 4.0 * d / 3.0, 1.5e-3);
   EXPECT_THROW(leaveOneOut({s[0], s[1]}, o), InputError);
+}
+
+TEST(AtlasLeaveOneOut, FrechetTemplateGivesTheSameOffsets) {
+  // The organs of the first test are the same shape: their Fréchet mean is that shape, and the
+  // errors are those of the fixed template (about 0 and 4d/3).
+  const double d = 0.009;
+  const std::vector<AtlasSubject> s = fourOrgans(d, 1.0, false);
+  LeaveOneOutOptions o = foldsOfFourOrgans();
+  o.frechetTemplate = true;
+  o.templateIterations = 3;
+  const LeaveOneOutResult r = leaveOneOut(s, o);
+  ASSERT_EQ(r.folds.size(), 2u);
+  EXPECT_GT(r.dataRatio[0], 0.0);  // the template subject is registered too
+  EXPECT_GE(r.folds[0].distance.planes, 5);
+  EXPECT_LT(r.folds[0].distance.planeMean, 1e-3);
+  EXPECT_NEAR(r.folds[1].distance.planeMean, 4.0 * d / 3.0, 1.5e-3);
+}
+
+TEST(AtlasLeaveOneOut, ScaleAlignmentMeasuresInTheSubjectsOwnSize) {
+  // As above, the fourth organ (curve at x = 0) 30 % larger: with size normalisation it is scaled
+  // to the template's area (factor 1 / 1.3) and its error is still about zero; the second organ
+  // (curve at -d, same size as the template) still gets 4d/3.
+  const double d = 0.009;
+  const std::vector<AtlasSubject> s = fourOrgans(d, 1.3);
+  EXPECT_NEAR(areaMatchingScale(s[3].surface, s[0].surface), 1.0 / 1.3, 1e-12);
+  LeaveOneOutOptions o = foldsOfFourOrgans();
+  o.scaleAlign = true;
+  o.projectOntoSubject = true;
+  const LeaveOneOutResult r = leaveOneOut(s, o);
+  ASSERT_EQ(r.folds.size(), 2u);
+  EXPECT_NEAR(r.scale[3], 1.0 / 1.3, 1e-12);
+  EXPECT_NEAR(r.scale[1], 1.0, 1e-12);
+  EXPECT_GE(r.folds[0].distance.planes, 5);
+  EXPECT_LT(r.folds[0].distance.planeMean, 1e-3);
+  EXPECT_NEAR(r.folds[1].distance.planeMean, 4.0 * d / 3.0, 1.5e-3);
 }
 
 }  // namespace

@@ -184,8 +184,31 @@ struct BuildArgs {
   double scale = 1e-3, planeStep = 5.0, minCrossing = 0.25, planeSpacing = 0.005;
   std::string planes = "radial";
   bool noFrechet = false, median = false;
+  std::string centre = "mean";
+  double outlierMads = kDefaultOutlierMads;
   RegistrationFlags reg;
 };
+
+CurveCentre parseCentre(const std::string& c) {
+  if (c == "median") return CurveCentre::Median;
+  if (c == "trimmed") return CurveCentre::Trimmed;
+  return CurveCentre::Mean;
+}
+
+// --centre and --outlier-mads of build and loo.
+void addCentreOptions(CLI::App* c, std::string& centre, double& outlierMads) {
+  c->add_option("--centre", centre,
+                "Per-plane centre of the crossings: mean (thesis), median (geometric) or trimmed "
+                "(mean after rejecting crossings more than --outlier-mads robust standard "
+                "deviations from the median: atypical curves do not pull it)")
+      ->check(CLI::IsMember({"mean", "median", "trimmed"}))
+      ->capture_default_str();
+  c->add_option("--outlier-mads", outlierMads,
+                "k of --centre trimmed: reject crossings farther than k * 1.4826 * MAD from the "
+                "per-plane median")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+}
 
 void runBuild(BuildArgs b) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -208,7 +231,8 @@ void runBuild(BuildArgs b) {
   o.minCrossingFraction = b.minCrossing;
   o.planeSpacing = b.planeSpacing;
   if (b.planes == "parallel") o.planes = CuttingPlaneFamily::Kind::Parallel;
-  if (b.median) o.centre = CurveCentre::Median;
+  o.centre = b.median ? CurveCentre::Median : parseCentre(b.centre);
+  o.outlierMads = b.outlierMads;
   const LigamentAtlas atlas = buildLigamentAtlas(livers.subjects, o, [](const std::string& s) {
     fmt::print("{}\n", s);
     std::fflush(stdout);
@@ -229,6 +253,7 @@ struct TransferArgs {
   std::string atlas, patient, out = "out/atlas-transfer", eseg;
   int label = 2;
   double scale = 1e-3;
+  bool project = false;
   RegistrationFlags reg;
 };
 
@@ -236,7 +261,7 @@ void runTransfer(const TransferArgs& t) {
   const auto t0 = std::chrono::steady_clock::now();
   const LigamentAtlas atlas = readLigamentAtlas(t.atlas);
   const TriMesh patient = readScaled(t.patient, t.scale);
-  const AtlasTransfer tr = transferAtlas(atlas, patient, t.reg.options());
+  const AtlasTransfer tr = transferAtlas(atlas, patient, t.reg.options(), true, t.project);
   const fs::path out(t.out);
   fs::create_directories(out);
   writePicturedCurve(out, tr.deformedTemplate, tr.curve);
@@ -267,6 +292,10 @@ struct LooArgs {
   std::string dir, out = "out/atlas-loo", templ;
   int label = 2, heldOut = 10, maxLivers = 0;
   double scale = 1e-3, planeStep = 5.0, minCrossing = 0.25;
+  std::string centre = "mean";
+  double outlierMads = kDefaultOutlierMads;
+  bool scaleAlign = false, frechetTemplate = false, project = false;
+  int templateIterations = 60;
   RegistrationFlags reg;
 };
 
@@ -285,6 +314,12 @@ void runLoo(LooArgs a) {
   o.atlas.registration = a.reg.options();
   o.atlas.planeStepDegrees = a.planeStep;
   o.atlas.minCrossingFraction = a.minCrossing;
+  o.atlas.centre = parseCentre(a.centre);
+  o.atlas.outlierMads = a.outlierMads;
+  o.scaleAlign = a.scaleAlign;
+  o.frechetTemplate = a.frechetTemplate;
+  o.projectOntoSubject = a.project;
+  o.templateIterations = a.templateIterations;
   if (!a.templ.empty()) {
     o.templateSubject = -1;
     for (int i = 0; i < n; ++i)
@@ -307,9 +342,11 @@ void runLoo(LooArgs a) {
   fs::create_directories(out);
   std::ofstream f(out / "loo.csv");
   f << "liver,planes,mean_mm,max_mm,point_mean_mm,point_max_mm,rigid_only_mean_mm,"
-       "rigid_only_max_mm,median_mean_mm,median_max_mm,atlas_points,alignment_rms_mm,data_left\n";
+       "rigid_only_max_mm,median_mean_mm,median_max_mm,atlas_points,alignment_rms_mm,data_left,"
+       "plain_mean_mean_mm,plain_mean_max_mm,scale\n";
   double sumMean = 0, sumMax = 0, worst = 0, sumRigid = 0, sumPoint = 0, sumMedian = 0,
-         sumMedianMax = 0;
+         sumMedianMax = 0, sumPlain = 0, sumPlainMax = 0;
+  std::vector<double> perLiver;
   int counted = 0;
   for (const LeaveOneOutFold& fold : r.folds) {
     const CurveDistance& d = fold.distance;
@@ -318,7 +355,8 @@ void runLoo(LooArgs a) {
       << 1e3 * fold.rigidOnly.planeMean << ',' << 1e3 * fold.rigidOnly.planeMax << ','
       << 1e3 * fold.median.planeMean << ',' << 1e3 * fold.median.planeMax << ','
       << fold.atlasPoints << ',' << 1e3 * r.alignmentRms[fold.subject] << ','
-      << r.dataRatio[fold.subject] << '\n';
+      << r.dataRatio[fold.subject] << ',' << 1e3 * fold.plainMean.planeMean << ','
+      << 1e3 * fold.plainMean.planeMax << ',' << r.scale[fold.subject] << '\n';
     if (d.planes == 0) continue;
     ++counted;
     sumMean += d.planeMean;
@@ -327,6 +365,9 @@ void runLoo(LooArgs a) {
     sumPoint += d.pointMean;
     sumMedian += fold.median.planeMean;
     sumMedianMax += fold.median.planeMax;
+    sumPlain += fold.plainMean.planeMean;
+    sumPlainMax += fold.plainMean.planeMax;
+    perLiver.push_back(d.planeMean);
     worst = std::max(worst, d.planeMax);
   }
   double regSeconds = 0;
@@ -340,6 +381,15 @@ void runLoo(LooArgs a) {
     fmt::print("with the per-plane geometric median instead of the mean: mean {:.1f} mm, mean of max "
                "{:.1f} mm\n",
                1e3 * sumMedian / counted, 1e3 * sumMedianMax / counted);
+    fmt::print("with the per-plane mean of all crossings (thesis): mean {:.1f} mm, mean of max "
+               "{:.1f} mm\n",
+               1e3 * sumPlain / counted, 1e3 * sumPlainMax / counted);
+    std::sort(perLiver.begin(), perLiver.end());
+    const size_t m = perLiver.size() / 2;
+    const double med = perLiver.size() % 2 ? perLiver[m] : 0.5 * (perLiver[m - 1] + perLiver[m]);
+    fmt::print("median over livers {:.1f} mm; {} of {} livers within 10 mm\n", 1e3 * med,
+               std::count_if(perLiver.begin(), perLiver.end(), [](double x) { return x <= 0.01; }),
+               counted);
   }
   fmt::print("registrations {:.0f} s ({:.1f} s each), total {:.0f} s; wrote {}\n", regSeconds,
              regSeconds / n, secondsSince(t0), (out / "loo.csv").string());
@@ -432,8 +482,8 @@ void addAtlasCommands(CLI::App& app) {
   build->add_option("--min-crossing", b->minCrossing,
                     "Fraction of the curves that must cross a plane for it to get a mean point")
       ->capture_default_str();
-  build->add_flag("--median", b->median,
-                  "Per-plane geometric median of the crossings instead of their mean");
+  build->add_flag("--median", b->median, "Same as --centre median");
+  addCentreOptions(build, b->centre, b->outlierMads);
   build->add_option("--scale", b->scale, scaleHelp)->capture_default_str();
   b->reg.iterations = 60;
   b->reg.add(build);
@@ -449,6 +499,9 @@ void addAtlasCommands(CLI::App& app) {
   tr->add_option("--label", t->label, ".eseg label of the curve (2: falciform)")
       ->capture_default_str();
   tr->add_option("--scale", t->scale, scaleHelp)->capture_default_str();
+  tr->add_flag("--project", t->project,
+               "Move the transferred curve and band to their closest points on the patient's "
+               "surface (the registration leaves the deformed template a few mm off it)");
   t->reg.add(tr);
   tr->callback([t] { runTransfer(*t); });
 
@@ -470,6 +523,19 @@ void addAtlasCommands(CLI::App& app) {
                   "Fraction of the curves that must cross a plane for it to get a mean point")
       ->capture_default_str();
   loo->add_option("--scale", l->scale, scaleHelp)->capture_default_str();
+  addCentreOptions(loo, l->centre, l->outlierMads);
+  loo->add_flag("--scale-align", l->scaleAlign,
+                "Scale every liver to the template's surface area before aligning and registering "
+                "it (distances are still measured in the liver's own size)");
+  loo->add_flag("--project", l->project,
+                "Move the transferred curve to its closest points on the held-out liver's surface "
+                "(as atlas transfer --project)");
+  loo->add_flag("--frechet-template", l->frechetTemplate,
+                "Template shape: Frechet mean of all the surfaces (eq. 4.8, started from "
+                "--template; no curve enters it) instead of the --template liver itself");
+  loo->add_option("--template-iterations", l->templateIterations,
+                  "L-BFGS iterations of the Frechet-mean template (as atlas build)")
+      ->capture_default_str();
   l->reg.add(loo);
   loo->callback([l] { runLoo(*l); });
 }

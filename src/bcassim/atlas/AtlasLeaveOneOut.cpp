@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "bcassim/Error.h"
+#include "bcassim/atlas/FrechetMeanAtlas.h"
 #include "bcassim/atlas/RigidAlignment.h"
 #include "bcassim/atlas/SurfaceAttachment.h"
 
@@ -38,20 +39,49 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
 
   LeaveOneOutResult res;
   res.alignmentRms.assign(n, 0.0);
+  res.scale.assign(n, 1.0);
   res.dataRatio.assign(n, 0.0);
   res.registrationSeconds.assign(n, 0.0);
   std::vector<Eigen::MatrixX3d> curves(n), carried(n), deformed(n);
+  // Size and rigid alignment onto the centred template subject (surface and curve together).
+  std::vector<TriMesh> aligned(n);
+  std::vector<Eigen::MatrixX3d> alignedCurves(n);
   for (int i = 0; i < n; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
     TriMesh s = subjects[i].surface;
     Eigen::MatrixX3d c = subjects[i].curve;
     const Eigen::RowVector3d ci = boxCentre(s.V);
     s.V.rowwise() -= ci;
     c.rowwise() -= ci;
     if (i != o.templateSubject) {
+      if (o.scaleAlign) {
+        res.scale[i] = areaMatchingScale(s, templ);
+        s.V *= res.scale[i];
+        c *= res.scale[i];
+      }
       const RigidTransform t = alignRigidlyMultiStart(s, templ, {}, 8, &res.alignmentRms[i]);
       s.V = t.apply(s.V);
       c = t.apply(c);
+    }
+    aligned[i] = s;
+    alignedCurves[i] = c;
+  }
+  if (o.frechetTemplate) {
+    // Template shape: Fréchet mean of the surfaces (eq. 4.8), started from the template subject.
+    const auto t0 = std::chrono::steady_clock::now();
+    RegistrationOptions ro = o.atlas.registration;
+    ro.lbfgs.maxIterations = o.templateIterations;
+    const AtlasResult fm = buildFrechetMeanAtlas(templ, aligned, ro);
+    templ = fm.mean;
+    say(fmt::format("Frechet-mean template of {} surfaces: {} iterations, objective {:.4g} -> {:.4g}, "
+                    "{:.1f} s",
+                    n, fm.iterations, fm.initialObjective, fm.objective,
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
+  }
+  for (int i = 0; i < n; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const TriMesh& s = aligned[i];
+    const Eigen::MatrixX3d& c = alignedCurves[i];
+    if (i != o.templateSubject || o.frechetTemplate) {
       const RegistrationResult r = registerSurface(templ, s, o.atlas.registration);
       deformed[i] = r.deformedVertices;
       res.dataRatio[i] = r.data / r.initialData;
@@ -66,6 +96,22 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
                     subjects[i].name, 1e3 * res.alignmentRms[i], 100.0 * res.dataRatio[i],
                     res.registrationSeconds[i]));
   }
+  // Distances on subject h in its own size (its curve and deformed template are scaled by
+  // scale[h]).
+  auto compare = [&](int h, const Eigen::MatrixX3d& predicted, const CuttingPlaneFamily& planes) {
+    CurveDistance d = compareCurves(curves[h], predicted, planes);
+    const double back = 1.0 / res.scale[h];
+    d.planeMean *= back;
+    d.planeMax *= back;
+    d.pointMean *= back;
+    d.pointMax *= back;
+    return d;
+  };
+  // The atlas mean carried onto subject h by the deformation V of the template.
+  auto predict = [&](int h, const CurveAtlas& atlas, const Eigen::MatrixX3d& V) {
+    const CarriedCurve c = carryCurve(atlas, V);
+    return o.projectOntoSubject ? projectOnto(c, aligned[h]).mean : c.mean;
+  };
   for (int h : held) {
     std::vector<Eigen::MatrixX3d> others;
     for (int i = 0; i < n; ++i)
@@ -74,12 +120,15 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     LeaveOneOutFold f;
     f.subject = h;
     f.atlasPoints = static_cast<int>(atlas.mean.size());
-    f.distance = compareCurves(curves[h], carryCurve(atlas, deformed[h]).mean, atlas.planes);
-    f.rigidOnly = compareCurves(curves[h], carryCurve(atlas, templ.V).mean, atlas.planes);
+    f.distance = compare(h, predict(h, atlas, deformed[h]), atlas.planes);
+    f.rigidOnly = compare(h, predict(h, atlas, templ.V), atlas.planes);
     LigamentAtlasOptions om = o.atlas;
     om.centre = CurveCentre::Median;
     const CurveAtlas medianAtlas = ligamentCurveAtlas(templ, others, om);
-    f.median = compareCurves(curves[h], carryCurve(medianAtlas, deformed[h]).mean, medianAtlas.planes);
+    f.median = compare(h, predict(h, medianAtlas, deformed[h]), medianAtlas.planes);
+    om.centre = CurveCentre::Mean;
+    const CurveAtlas meanAtlas = ligamentCurveAtlas(templ, others, om);
+    f.plainMean = compare(h, predict(h, meanAtlas, deformed[h]), meanAtlas.planes);
     say(fmt::format("held out {}: {} planes, mean {:.1f} mm, max {:.1f} mm (rigid only: mean {:.1f} mm)",
                     subjects[h].name, f.distance.planes, 1e3 * f.distance.planeMean,
                     1e3 * f.distance.planeMax, 1e3 * f.rigidOnly.planeMean));

@@ -9,9 +9,23 @@
 namespace bcassim {
 
 struct LeaveOneOutOptions {
-  LigamentAtlasOptions atlas;  // registration and planes; frechetMean is ignored (see below)
-  int templateSubject = 0;     // the fixed template (never held out)
+  LigamentAtlasOptions atlas;  // registration, planes, per-plane centre; frechetMean is ignored
+                               // (see frechetTemplate)
+  int templateSubject = 0;     // the fixed template, or the start of the Fréchet mean (never held out)
   std::vector<int> heldOut;    // subjects to hold out; empty: every subject but the template
+  // Size normalisation: each subject is scaled about its centre to the template's surface area
+  // (areaMatchingScale) before the rigid alignment and the registration; distances to the expert
+  // curve are measured back in the subject's own size.
+  bool scaleAlign = false;
+  // Template shape: false, the centred template subject itself; true, the Fréchet mean (eq. 4.8)
+  // of every subject's aligned surface started from it (templateIterations L-BFGS iterations),
+  // onto which every subject, the template subject included, is then registered. Only surfaces
+  // enter the mean, never curves.
+  bool frechetTemplate = false;
+  int templateIterations = 60;
+  // The carried mean curve is moved to its closest points on the held-out surface (projectOnto)
+  // before it is compared with the expert curve, as transferAtlas(..., projectOntoPatient).
+  bool projectOntoSubject = false;
 };
 
 struct LeaveOneOutFold {
@@ -20,11 +34,13 @@ struct LeaveOneOutFold {
   CurveDistance distance;  // transferred mean curve vs the expert curve (m)
   CurveDistance rigidOnly;  // same with the template only aligned rigidly (no LDDMM), for contrast
   CurveDistance median;     // LDDMM, per-plane geometric median instead of options' centre
+  CurveDistance plainMean;  // LDDMM, per-plane mean of all crossings (the thesis' centre)
 };
 
 struct LeaveOneOutResult {
   std::vector<LeaveOneOutFold> folds;
   std::vector<double> alignmentRms;         // per subject (m)
+  std::vector<double> scale;                // per subject: size normalisation (1 without)
   std::vector<double> dataRatio;            // final / initial data term of template -> subject
   std::vector<double> registrationSeconds;  // per subject
 };

@@ -5,7 +5,8 @@
 namespace bcassim {
 
 AtlasTransfer transferAtlas(const LigamentAtlas& atlas, const TriMesh& patient,
-                            const RegistrationOptions& options, bool rigidAlign) {
+                            const RegistrationOptions& options, bool rigidAlign,
+                            bool projectOntoPatient) {
   if (patient.F.rows() == 0) throw InputError("atlas transfer: the patient surface has no faces");
   AtlasTransfer t;
   if (rigidAlign) {
@@ -18,6 +19,7 @@ AtlasTransfer transferAtlas(const LigamentAtlas& atlas, const TriMesh& patient,
   t.registration = registerSurface(moved, patient, options);
   t.deformedTemplate = TriMesh{t.registration.deformedVertices, atlas.templ.F};
   t.curve = carryCurve(atlas.curve, t.registration.deformedVertices);
+  if (projectOntoPatient) t.curve = projectOnto(t.curve, patient);
   return t;
 }
 

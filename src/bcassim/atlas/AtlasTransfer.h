@@ -16,8 +16,10 @@ struct AtlasTransfer {
 };
 
 // patient: surface in its own frame (m). Control points default to a grid over the rigidly
-// moved template. Throws InputError on a patient without faces.
+// moved template. projectOntoPatient: the carried curve and band are moved to their closest
+// points on the patient's surface (projectOnto). Throws InputError on a patient without faces.
 AtlasTransfer transferAtlas(const LigamentAtlas& atlas, const TriMesh& patient,
-                            const RegistrationOptions& options = {}, bool rigidAlign = true);
+                            const RegistrationOptions& options = {}, bool rigidAlign = true,
+                            bool projectOntoPatient = false);
 
 }  // namespace bcassim

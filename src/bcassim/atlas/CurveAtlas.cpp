@@ -12,9 +12,10 @@
 namespace bcassim {
 
 CurveAtlas buildCurveAtlas(const TriMesh& templ, const std::vector<Eigen::MatrixX3d>& curves,
-                           const CuttingPlaneFamily& planes, int minCount, CurveCentre centre) {
+                           const CuttingPlaneFamily& planes, int minCount, CurveCentre centre,
+                           double outlierMads) {
   if (templ.F.rows() == 0) throw InputError("curve atlas: the template has no faces");
-  const std::vector<PlaneStatistics> stats = curveStatistics(curves, planes, centre);
+  const std::vector<PlaneStatistics> stats = curveStatistics(curves, planes, centre, outlierMads);
   const SurfaceLocator locator(templ);
   CurveAtlas a;
   a.planes = planes;
@@ -68,6 +69,22 @@ CarriedCurve carryCurve(const CurveAtlas& atlas, const Eigen::MatrixX3d& V) {
   c.mean = atlas.mean.positions(V);
   c.lower = atlas.lower.positions(V);
   c.upper = atlas.upper.positions(V);
+  c.sigma = 0.5 * ((c.upper - c.mean).rowwise().norm() + (c.mean - c.lower).rowwise().norm());
+  return c;
+}
+
+CarriedCurve projectOnto(const CarriedCurve& curve, const TriMesh& surface) {
+  const SurfaceLocator locator(surface);
+  auto project = [&](const Eigen::MatrixX3d& P) {
+    Eigen::MatrixX3d Q(P.rows(), 3);
+    for (Eigen::Index i = 0; i < P.rows(); ++i)
+      Q.row(i) = locator.closest(P.row(i).transpose()).point.transpose();
+    return Q;
+  };
+  CarriedCurve c;
+  c.mean = project(curve.mean);
+  c.lower = project(curve.lower);
+  c.upper = project(curve.upper);
   c.sigma = 0.5 * ((c.upper - c.mean).rowwise().norm() + (c.mean - c.lower).rowwise().norm());
   return c;
 }

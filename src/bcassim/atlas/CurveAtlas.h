@@ -33,9 +33,16 @@ struct CarriedCurve {
 // template has no faces or no plane has minCount crossings.
 CurveAtlas buildCurveAtlas(const TriMesh& templ, const std::vector<Eigen::MatrixX3d>& curves,
                            const CuttingPlaneFamily& planes, int minCount,
-                           CurveCentre centre = CurveCentre::Mean);
+                           CurveCentre centre = CurveCentre::Mean,
+                           double outlierMads = kDefaultOutlierMads);
 
 // The atlas curve carried by the template's vertices moved to V (#V by 3, same faces).
 CarriedCurve carryCurve(const CurveAtlas& atlas, const Eigen::MatrixX3d& V);
+
+// Mean, lower and upper points moved to their closest points on `surface`, sigma recomputed from
+// the moved band. A registration leaves some distance between the deformed template and the
+// patient; the ligament is attached to the patient's own surface, so that is where its predicted
+// curve belongs. Throws InputError on a surface without faces.
+CarriedCurve projectOnto(const CarriedCurve& curve, const TriMesh& surface);
 
 }  // namespace bcassim

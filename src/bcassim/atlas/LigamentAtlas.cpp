@@ -63,7 +63,7 @@ CurveAtlas ligamentCurveAtlas(const TriMesh& templ, const std::vector<Eigen::Mat
   const auto n = static_cast<double>(carried.size());
   const int minCount = std::max(std::min(2, static_cast<int>(carried.size())),
                                 static_cast<int>(std::ceil(o.minCrossingFraction * n)));
-  return buildCurveAtlas(templ, carried, planes, minCount, o.centre);
+  return buildCurveAtlas(templ, carried, planes, minCount, o.centre, o.outlierMads);
 }
 
 LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,

@@ -38,7 +38,8 @@ struct LigamentAtlasOptions {
   double planeSpacing = 0.005;  // m
   // A plane yields a mean point when at least this fraction of the curves crosses it.
   double minCrossingFraction = 0.25;
-  CurveCentre centre = CurveCentre::Mean;  // per-plane centre: mean (thesis) or geometric median
+  CurveCentre centre = CurveCentre::Mean;  // per-plane centre: mean (thesis), median or Trimmed
+  double outlierMads = kDefaultOutlierMads;  // k of the Hampel identifier of CurveCentre::Trimmed
 };
 
 struct LigamentAtlas {

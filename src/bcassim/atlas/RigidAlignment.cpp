@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <cmath>
@@ -104,6 +105,27 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
     }
   }
   return icp(source, locator, best, options, rmsOut);
+}
+
+namespace {
+double surfaceArea(const TriMesh& m) {
+  double a = 0.0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Eigen::Vector3d p0 = m.V.row(m.F(f, 0)).transpose();
+    const Eigen::Vector3d p1 = m.V.row(m.F(f, 1)).transpose();
+    const Eigen::Vector3d p2 = m.V.row(m.F(f, 2)).transpose();
+    a += 0.5 * (p1 - p0).cross(p2 - p0).norm();
+  }
+  return a;
+}
+}  // namespace
+
+double areaMatchingScale(const TriMesh& source, const TriMesh& target) {
+  const double as = surfaceArea(source), at = surfaceArea(target);
+  if (!(as > 0.0) || !(at > 0.0)) {
+    throw InputError(fmt::format("area-matching scale: surface areas {} and {} m^2", as, at));
+  }
+  return std::sqrt(at / as);
 }
 
 }  // namespace bcassim

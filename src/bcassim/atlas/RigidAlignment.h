@@ -36,4 +36,10 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
                                       const IcpOptions& options = {}, int probeIterations = 8,
                                       double* rmsOut = nullptr);
 
+// Isotropic scale factor that gives `source` the surface area of `target`: sqrt(area(target) /
+// area(source)). Size normalisation before registration (as in Procrustes analysis with
+// scaling): the registration is then left with shape differences only. Throws InputError when
+// either surface has zero area.
+double areaMatchingScale(const TriMesh& source, const TriMesh& target);
+
 }  // namespace bcassim
