@@ -50,16 +50,21 @@ TEST(LinearGaussian, UkfWithEverySigmaPointSetIsTheExactKalmanFilter) {
     const char* name;
     SigmaPointKind kind;
     double kappa;
+    double spread;
   };
-  for (const Case& c :
-       {Case{"star", SigmaPointKind::Star, 0.0}, Case{"star kappa 1", SigmaPointKind::Star, 1.0},
-        Case{"canonical", SigmaPointKind::Canonical, 0.0},
-        Case{"simplex", SigmaPointKind::Simplex, 0.0}}) {
+  for (const Case& c : {Case{"star", SigmaPointKind::Star, 0.0, 1.0},
+                        Case{"star kappa 1", SigmaPointKind::Star, 1.0, 1.0},
+                        Case{"canonical", SigmaPointKind::Canonical, 0.0, 1.0},
+                        Case{"simplex", SigmaPointKind::Simplex, 0.0, 1.0},
+                        // the scaled transform is exact for a linear model whatever its spread
+                        Case{"simplex spread 0.05", SigmaPointKind::Simplex, 0.0, 0.05},
+                        Case{"star spread 3", SigmaPointKind::Star, 0.0, 3.0}}) {
     LinearModel model(s);
     SerialExecutor serial;
     UkfOptions options;
     options.sigmaPoints = c.kind;
     options.starKappa = c.kappa;
+    options.spread = c.spread;
     const StochasticState layout = linearLayout(0.1);
     UkfFilter ukf(layout, {&model}, serial, options);
     ExactKalman kf = exactFor(s, layout);

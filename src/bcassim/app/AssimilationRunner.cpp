@@ -277,6 +277,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
       UkfOptions o;
       o.firstSigmaPointAlone = false;
       o.sigmaPoints = s.sigmaPoints;
+      o.spread = s.sigmaSpread;
       o.processVariance = process;
       return std::make_unique<UkfFilter>(layout, models, executor, o);
     }

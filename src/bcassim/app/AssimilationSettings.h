@@ -44,6 +44,7 @@ struct ObservationSettings {
 struct AssimilationSettings {
   FilterKind filter = FilterKind::Roukf;
   SigmaPointKind sigmaPoints = SigmaPointKind::Simplex;
+  double sigmaSpread = 1.0;  // ukf: spread alpha of the scaled unscented transform
   int members = 6;         // etkf ensemble size
   double inflation = 0.0;  // std of the additive noise on each parameter per step (unconstrained)
   std::uint64_t seed = 1;  // observation noise and etkf draws

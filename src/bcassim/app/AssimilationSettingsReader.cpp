@@ -169,7 +169,7 @@ TrackFrames readFrames(const YamlSource& src, const MapReader& r, const std::str
 AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML::Node& node,
                                               const AssimilationContext& c) {
   MapReader r(src, node, "assimilation",
-              {"filter", "sigma_points", "members", "inflation", "seed", "threads", "state",
+              {"filter", "sigma_points", "sigma_spread", "members", "inflation", "seed", "threads", "state",
                "reuse_factorization", "tangent", "tangent_refresh_every", "tangent_background",
                "parameters",
                "observations", "validation"});
@@ -188,6 +188,8 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.sigmaPoints = sigma == "star"        ? SigmaPointKind::Star
                   : sigma == "canonical" ? SigmaPointKind::Canonical
                                          : SigmaPointKind::Simplex;
+  r.rejectUnless(s.filter == FilterKind::Ukf, "sigma_spread", "filter ukf");
+  s.sigmaSpread = r.number("sigma_spread", 1.0, "-", Range::Positive);
   s.members = r.integer("members", 6);
   if (s.members < 2) r.fail("members", "must be >= 2, got " + std::to_string(s.members));
   s.inflation = r.number("inflation", 0.0, "-", Range::NonNegative);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -25,6 +26,8 @@ UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
       options_(std::move(options)) {
   const StochasticState& s = ensemble_.layout();
   const Eigen::Index n = s.size();
+  if (!(options_.spread > 0.0) || !std::isfinite(options_.spread))
+    throw InputError(fmt::format("UKF sigma-point spread must be positive, got {}", options_.spread));
   if (options_.processVariance.size() != 0 && options_.processVariance.size() != n)
     throw InputError(fmt::format("process noise has {} variances, the stochastic state {} entries",
                                  options_.processVariance.size(), n));
@@ -54,7 +57,7 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   RepairLog repairs;
 
   // Prediction (Alg. 1 lines 9-14).
-  const Eigen::MatrixXd X = sigma_.points(x_, choleskyWithRepair(P_, repairs));
+  const Eigen::MatrixXd X = sigma_.points(x_, options_.spread * choleskyWithRepair(P_, repairs));
   Eigen::MatrixXd Xf, Z;
   const auto forecastStart = Clock::now();
   ensemble_.forecast(X, Xf, Z);
@@ -63,7 +66,8 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   const auto correctionStart = Clock::now();
   const Eigen::VectorXd& w = sigma_.weights;
   x_ = sigma_.meanOf(Xf);
-  const Eigen::MatrixXd dX = Xf.colwise() - x_;
+  const double unscale = 1.0 / options_.spread;
+  const Eigen::MatrixXd dX = unscale * (Xf.colwise() - x_);
   weightedGram(dX, w, P_);
   if (options_.processVariance.size() != 0) P_.diagonal() += options_.processVariance;
 
@@ -71,7 +75,7 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   if (!obs.empty()) {
     const Eigen::MatrixXd Zs = obs.selectRows(Z);
     const Eigen::VectorXd zMean = Zs * w;
-    const Eigen::MatrixXd dZ = Zs.colwise() - zMean;
+    const Eigen::MatrixXd dZ = unscale * (Zs.colwise() - zMean);
     const Eigen::MatrixXd Pxz = dX * w.asDiagonal() * dZ.transpose();
     const Eigen::MatrixXd Pz = dZ * w.asDiagonal() * dZ.transpose() + obs.covariance();
     const Eigen::VectorXd innovation = obs.values() - zMean;

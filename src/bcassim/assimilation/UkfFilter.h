@@ -13,6 +13,12 @@ namespace bcassim {
 struct UkfOptions : FilterOptions {
   SigmaPointKind sigmaPoints = SigmaPointKind::Star;
   double starKappa = 0.0;  // see starSigmaPoints()
+  // Spread alpha of a scaled unscented transform: the sigma points sit at alpha times their usual
+  // distance from the mean, and the deviations of the forecasts from their mean are divided by
+  // alpha before the covariances are formed (exact for a linear model whatever alpha). In n
+  // dimensions the usual sets put points sqrt(n) standard deviations out; 1/sqrt(n) brings them
+  // back to one. 1 = the plain transform (thesis Alg. 1).
+  double spread = 1.0;
   // Diagonal process noise Q (unconstrained variances, one per stochastic state entry) added to the
   // predicted covariance (Alg. 1 line 14); empty = none. The correction does not see it in the
   // predicted observations, as in the thesis: on parameters that is exact for a linear model.
