@@ -53,6 +53,16 @@ TEST(AssimilationCli, UnknownFilter) {
               "scene.yaml:7: assimilation.filter: expected one of ukf, roukf, etkf, got 'kalman'");
 }
 
+TEST(AssimilationCli, SigmaSpreadOnlyForUkfAndPositive) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string("  filter: roukf\n  sigma_spread: 0.1\n") + kParameters +
+                                  "  observations: {tracks: tracks.csv}\n"),
+              "scene.yaml:8: assimilation.sigma_spread: only for filter ukf");
+  expectError(assimilate(dir, std::string("  filter: ukf\n  sigma_spread: 0\n") + kParameters +
+                                  "  observations: {tracks: tracks.csv}\n"),
+              "scene.yaml:8: assimilation.sigma_spread: must be > 0, got 0");
+}
+
 TEST(AssimilationCli, MissingTracksFile) {
   const auto dir = freshDir();
   expectError(assimilate(dir, std::string(kParameters) + "  observations: {tracks: gone.csv}\n"),
