@@ -2,15 +2,11 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
-
 #include "bcassim/Error.h"
 #include "bcassim/io/BinaryArchive.h"
 
 namespace bcassim {
 namespace {
-
-constexpr const char* kMagic = "bcassim assimilation checkpoint 1";
 
 Eigen::MatrixXd column(const Eigen::VectorXd& v) { return v; }
 
@@ -33,8 +29,7 @@ MechanicalState readState(ArchiveReader& in) {
 void writeAssimilationCheckpoint(const std::string& path, const std::string& key,
                                  const AssimilationCheckpoint& c) {
   ArchiveWriter out(path);
-  out.text(kMagic);
-  out.text(key);
+  writeCheckpointHeader(out, "assimilation", key);
   out.number(c.step);
   out.number(static_cast<double>(c.filter.matrices.size()));
   for (const Eigen::MatrixXd& m : c.filter.matrices) out.matrix(m);
@@ -55,15 +50,7 @@ void writeAssimilationCheckpoint(const std::string& path, const std::string& key
 }
 
 AssimilationCheckpoint readAssimilationCheckpoint(const std::string& path, const std::string& key) {
-  if (!std::filesystem::exists(path))
-    throw InputError(fmt::format("{}: no checkpoint to resume from (run without --resume)", path));
-  ArchiveReader in(path, "the checkpoint to resume from");
-  if (in.text() != kMagic)
-    throw InputError(fmt::format("{}: not a bcassim assimilation checkpoint", path));
-  const std::string written = in.text();
-  if (written != key)
-    throw InputError(
-        fmt::format("{}: written for another scene ({}); this scene is {}", path, written, key));
+  ArchiveReader in = openCheckpoint(path, "assimilation", key);
   AssimilationCheckpoint c;
   c.step = static_cast<int>(in.number());
   const auto matrices = static_cast<size_t>(in.number());

@@ -10,8 +10,6 @@
 namespace bcassim {
 namespace {
 
-constexpr const char* kMagic = "bcassim simulation checkpoint 1";
-
 std::string pathIn(const std::string& dir) {
   return (std::filesystem::path(dir) / "checkpoint.bin").string();
 }
@@ -21,8 +19,7 @@ std::string pathIn(const std::string& dir) {
 void writeSimulationCheckpoint(const std::string& dir, const std::string& key,
                                const SimulationCheckpoint& c) {
   ArchiveWriter out(pathIn(dir));
-  out.text(kMagic);
-  out.text(key);
+  writeCheckpointHeader(out, "simulation", key);
   for (double x : {static_cast<double>(c.step), c.t, static_cast<double>(c.frames),
                    c.maxNodeDisplacement, c.maxMarkerDisplacement, c.stepSeconds})
     out.number(x);
@@ -33,15 +30,7 @@ void writeSimulationCheckpoint(const std::string& dir, const std::string& key,
 
 SimulationCheckpoint readSimulationCheckpoint(const std::string& dir, const std::string& key) {
   const std::string path = pathIn(dir);
-  if (!std::filesystem::exists(path))
-    throw InputError(fmt::format("{}: no checkpoint to resume from (run without --resume)", path));
-  ArchiveReader in(path, "the checkpoint to resume from");
-  if (in.text() != kMagic)
-    throw InputError(fmt::format("{}: not a bcassim simulation checkpoint", path));
-  const std::string written = in.text();
-  if (written != key)
-    throw InputError(fmt::format("{}: written for another scene ({}); this scene is {}", path,
-                                 written, key));
+  ArchiveReader in = openCheckpoint(path, "simulation", key);
   SimulationCheckpoint c;
   c.step = static_cast<int>(in.number());
   c.t = in.number();

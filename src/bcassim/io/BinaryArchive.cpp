@@ -98,4 +98,29 @@ Eigen::MatrixXd ArchiveReader::matrix() {
   return m;
 }
 
+namespace {
+std::string checkpointMagic(const std::string& kind) {
+  return fmt::format("bcassim {} checkpoint 1", kind);
+}
+}  // namespace
+
+void writeCheckpointHeader(ArchiveWriter& out, const std::string& kind, const std::string& key) {
+  out.text(checkpointMagic(kind));
+  out.text(key);
+}
+
+ArchiveReader openCheckpoint(const std::string& path, const std::string& kind,
+                             const std::string& key) {
+  if (!std::filesystem::exists(path))
+    throw InputError(fmt::format("{}: no checkpoint to resume from (run without --resume)", path));
+  ArchiveReader in(path, "the checkpoint to resume from");
+  if (in.text() != checkpointMagic(kind))
+    throw InputError(fmt::format("{}: not a bcassim {} checkpoint", path, kind));
+  const std::string written = in.text();
+  if (written != key)
+    throw InputError(
+        fmt::format("{}: written for another scene ({}); this scene is {}", path, written, key));
+  return in;
+}
+
 }  // namespace bcassim

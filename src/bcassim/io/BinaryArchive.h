@@ -39,4 +39,12 @@ class ArchiveReader {
   std::ifstream in_;
 };
 
+// A checkpoint's header: "bcassim KIND checkpoint 1", then the key of the run it belongs to.
+void writeCheckpointHeader(ArchiveWriter& out, const std::string& kind, const std::string& key);
+// Opens path as a KIND checkpoint of the run `key`, positioned after the header. Throws InputError
+// "PATH: no checkpoint to resume from (...)", "PATH: not a bcassim KIND checkpoint" or
+// "PATH: written for another scene (...)".
+ArchiveReader openCheckpoint(const std::string& path, const std::string& kind,
+                             const std::string& key);
+
 }  // namespace bcassim
