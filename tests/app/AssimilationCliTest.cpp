@@ -46,20 +46,22 @@ const char* kParameters =
     "  parameters:\n"
     "    - {young_modulus: {region: 0}, mean: 4000, stddev: 1000}\n";
 
+// An assimilation section: the given options, then one parameter and the tracks.csv observations.
+std::string sectionWith(const std::string& options) {
+  return options + kParameters + "  observations: {tracks: tracks.csv}\n";
+}
+
 TEST(AssimilationCli, UnknownFilter) {
   const auto dir = freshDir();
-  expectError(assimilate(dir, std::string("  filter: kalman\n") + kParameters +
-                                  "  observations: {tracks: tracks.csv}\n"),
+  expectError(assimilate(dir, sectionWith("  filter: kalman\n")),
               "scene.yaml:7: assimilation.filter: expected one of ukf, roukf, etkf, got 'kalman'");
 }
 
 TEST(AssimilationCli, SigmaSpreadOnlyForUkfAndPositive) {
   const auto dir = freshDir();
-  expectError(assimilate(dir, std::string("  filter: roukf\n  sigma_spread: 0.1\n") + kParameters +
-                                  "  observations: {tracks: tracks.csv}\n"),
+  expectError(assimilate(dir, sectionWith("  filter: roukf\n  sigma_spread: 0.1\n")),
               "scene.yaml:8: assimilation.sigma_spread: only for filter ukf");
-  expectError(assimilate(dir, std::string("  filter: ukf\n  sigma_spread: 0\n") + kParameters +
-                                  "  observations: {tracks: tracks.csv}\n"),
+  expectError(assimilate(dir, sectionWith("  filter: ukf\n  sigma_spread: 0\n")),
               "scene.yaml:8: assimilation.sigma_spread: must be > 0, got 0");
 }
 
@@ -97,19 +99,16 @@ TEST(AssimilationCli, MissingParameterMean) {
 
 TEST(AssimilationCli, InflationOnlyForUkfAndEtkf) {
   const auto dir = freshDir();
-  expectError(assimilate(dir, std::string("  inflation: 0.1\n") + kParameters +
-                                  "  observations: {tracks: tracks.csv}\n"),
+  expectError(assimilate(dir, sectionWith("  inflation: 0.1\n")),
               "scene.yaml:7: assimilation.inflation: only for filters ukf and etkf (roukf keeps "
               "its rank)");
 }
 
 TEST(AssimilationCli, TangentOptionsNeedTheMeanTangent) {
   const auto dir = freshDir();
-  expectError(assimilate(dir, std::string("  tangent_background: true\n") + kParameters +
-                                  "  observations: {tracks: tracks.csv}\n"),
+  expectError(assimilate(dir, sectionWith("  tangent_background: true\n")),
               "scene.yaml:7: assimilation.tangent_background: only for tangent: mean");
-  expectError(assimilate(dir, std::string("  tangent: frozen\n") + kParameters +
-                                  "  observations: {tracks: tracks.csv}\n"),
+  expectError(assimilate(dir, sectionWith("  tangent: frozen\n")),
               "scene.yaml:7: assimilation.tangent: expected one of own, mean, got 'frozen'");
 }
 
