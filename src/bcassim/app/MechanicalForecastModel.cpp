@@ -9,6 +9,16 @@
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 
 namespace bcassim {
+namespace {
+
+// One integrator steps every sigma point of its worker in turn: extrapolating the initial guess
+// across different states would not predict the next one.
+ImplicitEulerOptions withoutExtrapolation(ImplicitEulerOptions options) {
+  options.extrapolateGuess = false;
+  return options;
+}
+
+}  // namespace
 
 MechanicalForecastModel::MechanicalForecastModel(
     const MechanicalModel& model, ImplicitEulerOptions integrator,
@@ -16,13 +26,8 @@ MechanicalForecastModel::MechanicalForecastModel(
     const MechanicalState& initial, ForecastModelOptions options, int worker,
     std::shared_ptr<SharedFactorization> shared)
     : model_(model),
-      // One integrator steps every sigma point of its worker in turn: extrapolating across
-      // different states would not predict the next one.
       integrator_(model_, makeLinearSolver(options.solver, options.refresh),
-                  [integrator]() mutable {
-                    integrator.extrapolateGuess = false;
-                    return integrator;
-                  }()),
+                  withoutExtrapolation(integrator)),
       observed_(std::move(observed)),
       parameters_(std::move(parameters)),
       reference_(initial),
