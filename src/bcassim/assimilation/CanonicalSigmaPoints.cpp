@@ -14,9 +14,11 @@ SigmaPointSet canonicalSigmaPoints(Eigen::Index n) {
   SigmaPointSet set;
   set.unit.setZero(n, 2 * n);
   set.weights.setConstant(2 * n, 1.0 / (2.0 * n));
+  set.nonzeroRow.resize(static_cast<size_t>(2 * n));
   for (Eigen::Index k = 0; k < n; ++k) {
     set.unit(k, k) = scale;
     set.unit(k, n + k) = -scale;
+    set.nonzeroRow[static_cast<size_t>(k)] = set.nonzeroRow[static_cast<size_t>(n + k)] = k;
   }
   set.structure = UnitStructure::SignedColumns;
   return set;

@@ -32,10 +32,11 @@ Eigen::MatrixXd SigmaPointSet::points(const Eigen::VectorXd& mean,
       break;
     case UnitStructure::SignedColumns:
       for (Eigen::Index k = 0; k < s; ++k) {
-        Eigen::Index row = 0;
-        const double value = unit.col(k).cwiseAbs().maxCoeff(&row);
-        X.col(k) = value == 0.0 ? Eigen::VectorXd::Zero(X.rows()).eval()
-                                : (unit(row, k) * sqrtCov.col(row)).eval();
+        const Eigen::Index row = nonzeroRow[static_cast<size_t>(k)];
+        if (row < 0)
+          X.col(k).setZero();
+        else
+          X.col(k) = unit(row, k) * sqrtCov.col(row);
       }
       break;
     case UnitStructure::Simplex: {

@@ -4,6 +4,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <string_view>
+#include <vector>
 
 namespace bcassim {
 
@@ -20,7 +21,7 @@ SigmaPointKind parseSigmaPointKind(std::string_view name);
 // a full-state filter with thousands of entries).
 enum class UnitStructure {
   Dense,          // any unit matrix
-  SignedColumns,  // at most one nonzero per column (star, canonical)
+  SignedColumns,  // at most one nonzero per column (star, canonical): its row in nonzeroRow
   Simplex,        // eq. 3.6: row j-1 holds c_j in columns 0..j-1 and -j c_j in column j
 };
 
@@ -28,6 +29,8 @@ struct SigmaPointSet {
   Eigen::MatrixXd unit;     // n x s: column k is I^(k)
   Eigen::VectorXd weights;  // s weights, summing to 1
   UnitStructure structure = UnitStructure::Dense;
+  // SignedColumns: the row of each column's nonzero entry, -1 for a zero column.
+  std::vector<Eigen::Index> nonzeroRow;
 
   Eigen::Index count() const { return unit.cols(); }
   // n x s points mean + sqrtCov * I^(k); sqrtCov is any n x r factor with r = unit.rows().
