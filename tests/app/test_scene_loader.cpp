@@ -42,6 +42,9 @@ TEST(SceneLoader, DefaultsFillEverythingButTheMesh) {
   EXPECT_EQ(s.implicitEuler.newtonIterations, 0);
   EXPECT_EQ(s.solver.type, "cholmod");
   EXPECT_STREQ(materialName(s.model.elasticity.material(0)), "stvk");
+  EXPECT_FALSE(s.model.elasticity.hasMeanDilatation());
+  EXPECT_TRUE(load(std::string(kBox) + "mean_dilatation: {patch_tets: 4}")
+                  .model.elasticity.hasMeanDilatation());
   EXPECT_EQ(s.output.every, 10);
   EXPECT_TRUE(s.output.pvd);
   EXPECT_TRUE(s.markers.points.empty());
@@ -265,6 +268,11 @@ TEST(SceneLoader, ErrorsNameLineKeyAndExpectation) {
             "scene.yaml:2: solver.tolerance: only for iterative solvers");
   EXPECT_EQ(errorOf(b + "solver: {type: factorized-pcg, precision: half}"),
             "scene.yaml:2: solver.precision: expected one of single, double, got 'half'");
+  EXPECT_EQ(errorOf(b + "mean_dilatation: {patch_tets: 0}"),
+            "scene.yaml:2: mean_dilatation.patch_tets: must be >= 1, got 0");
+  EXPECT_EQ(errorOf(b + "material: {model: corotational}\nmean_dilatation: {patch_tets: 4}"),
+            "scene.yaml:3: mean_dilatation: material 'corotational' has no volumetric split for "
+            "mean dilatation; expected stvk or neohookean");
   EXPECT_EQ(errorOf(b + "solver: {type: cg, precision: double}"),
             "scene.yaml:2: solver.precision: only for type factorized-pcg");
   EXPECT_EQ(

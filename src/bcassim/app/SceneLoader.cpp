@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -487,7 +488,7 @@ const std::vector<std::string> kSceneKeys = {
     "mesh",        "material",       "materials",  "density", "mass",     "gravity",
     "damping",     "time",           "integrator", "solver",  "fixed",    "loads",
     "springs",     "control_points", "markers",    "output",  "variants", "validation_points",
-    "hidden_points", "assimilation"};
+    "hidden_points", "assimilation", "mean_dilatation"};
 
 Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVariants) {
   if (!root.IsDefined() || root.IsNull())
@@ -501,7 +502,17 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   const MassKind mass = top.choice("mass", "lumped", {"lumped", "consistent"}) == "lumped"
                             ? MassKind::Lumped
                             : MassKind::Consistent;
-  Scene scene(makeMechanicalModel(mesh, std::move(materials), density, mass));
+  MapReader dilatation(src, top.node("mean_dilatation"), "mean_dilatation", {"patch_tets"});
+  const int patchTets = dilatation.integer("patch_tets", 1, Range::AtLeastOne);
+  std::optional<MechanicalModel> built;
+  auto build = [&] {
+    built.emplace(makeMechanicalModel(mesh, std::move(materials), density, mass, patchTets));
+  };
+  if (patchTets > 1)
+    app::withContext(src, top.node("mean_dilatation"), "mean_dilatation", build);
+  else
+    build();
+  Scene scene(std::move(*built));
   scene.sourceFile = src.file;
   MechanicalModel& model = scene.model;
   model.gravity = top.vec3("gravity", Vec3::Zero(), "m/s^2");

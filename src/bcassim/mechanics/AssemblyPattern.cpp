@@ -4,13 +4,20 @@
 
 namespace bcassim {
 
-AssemblyPattern::AssemblyPattern(const TetMesh& mesh) {
+AssemblyPattern::AssemblyPattern(const TetMesh& mesh) : AssemblyPattern(mesh, {}) {}
+
+AssemblyPattern::AssemblyPattern(const TetMesh& mesh,
+                                 const std::vector<std::vector<int>>& cliques) {
   const Eigen::Index n = mesh.numNodes();
-  // Node adjacency (including self) from the tets, then each node pair expands to a 3x3 block.
+  // Node adjacency (including self) from the tets and cliques; each node pair expands to a 3x3
+  // block.
   std::vector<std::vector<int>> adjacent(n);
   for (Eigen::Index t = 0; t < mesh.numTets(); ++t)
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b) adjacent[mesh.T(t, a)].push_back(mesh.T(t, b));
+  for (const auto& clique : cliques)
+    for (int a : clique)
+      for (int b : clique) adjacent[a].push_back(b);
   for (Eigen::Index i = 0; i < n; ++i) {
     auto& adj = adjacent[i];
     adj.push_back(static_cast<int>(i));
@@ -47,6 +54,16 @@ AssemblyPattern::AssemblyPattern(const TetMesh& mesh) {
         for (int b = 0; b < 4; ++b)
           for (int j = 0; j < 3; ++j)
             s[(3 * a + i) * 12 + 3 * b + j] = slotOf(3 * mesh.T(t, a) + i, 3 * mesh.T(t, b) + j);
+  }
+  cliqueStart_.reserve(cliques.size());
+  for (const auto& clique : cliques) {
+    cliqueStart_.push_back(cliqueSlots_.size());
+    const int m = static_cast<int>(clique.size());
+    for (int a = 0; a < m; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int b = 0; b < m; ++b)
+          for (int j = 0; j < 3; ++j)
+            cliqueSlots_.push_back(slotOf(3 * clique[a] + i, 3 * clique[b] + j));
   }
   diagonal_.resize(dofs);
   for (Eigen::Index d = 0; d < dofs; ++d)

@@ -4,11 +4,12 @@ namespace bcassim {
 
 MechanicalModel makeMechanicalModel(std::shared_ptr<const TetMesh> mesh,
                                     std::vector<Material> regionMaterials, double density,
-                                    MassKind massKind) {
-  auto pattern = std::make_shared<const AssemblyPattern>(*mesh);
+                                    MassKind massKind, int meanDilatationPatchTets) {
+  TetElasticity elasticity(*mesh, std::move(regionMaterials), meanDilatationPatchTets);
+  auto pattern = std::make_shared<const AssemblyPattern>(*mesh, elasticity.patchNodeSets());
   MechanicalModel model{mesh,
                         pattern,
-                        TetElasticity(*mesh, std::move(regionMaterials)),
+                        std::move(elasticity),
                         MassMatrix(*mesh, *pattern, density, massKind),
                         {},
                         {},

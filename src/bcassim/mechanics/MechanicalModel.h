@@ -52,9 +52,11 @@ struct MechanicalModel {
   double storedEnergy(double t, const Eigen::VectorXd& x) const;
 };
 
-// Builds the model's shared parts and members from a mesh and one material per region.
+// Builds the model's shared parts and members from a mesh and one material per region;
+// meanDilatationPatchTets > 1 averages the volumetric term over patches of that many tets (see
+// TetElasticity).
 MechanicalModel makeMechanicalModel(std::shared_ptr<const TetMesh> mesh,
                                     std::vector<Material> regionMaterials, double density,
-                                    MassKind massKind);
+                                    MassKind massKind, int meanDilatationPatchTets = 1);
 
 }  // namespace bcassim

@@ -16,9 +16,44 @@ inline Mat3 deformationGradient(const Eigen::VectorXd& x, const Eigen::Vector4i&
   return F;
 }
 
+// The split psi(F) = psi_dev(F) + lambda/2 theta(F)^2 that mean dilatation needs: psi_dev is the
+// same law with lambda = 0, theta its volumetric measure. Only declared for the laws written so.
+template <class M>
+struct VolumetricSplit;
+
+template <>
+struct VolumetricSplit<StvkMaterial> {  // theta = tr E = (|F|^2 - 3)/2
+  static StvkMaterial deviatoric(const StvkMaterial& m) { return {0.0, m.mu}; }
+  static double theta(const Mat3& F) { return 0.5 * (F.squaredNorm() - 3.0); }
+  static Mat3 dTheta(const Mat3& F) { return F; }
+  // K_ab += c (d2 theta/dF2 contracted with gradN_a, gradN_b) = c (gNa.gNb) I.
+  static void addHessian(const Mat3&, const ShapeGradients& G, double c, Mat12& K) {
+    const Eigen::Matrix4d GG = c * G * G.transpose();
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) K.block<3, 3>(3 * a, 3 * b).diagonal().array() += GG(a, b);
+  }
+};
+
+template <>
+struct VolumetricSplit<NeoHookeanMaterial> {  // theta = ln J
+  static NeoHookeanMaterial deviatoric(const NeoHookeanMaterial& m) { return {0.0, m.mu}; }
+  static double theta(const Mat3& F) { return std::log(F.determinant()); }
+  static Mat3 dTheta(const Mat3& F) { return F.inverse().transpose(); }
+  // d(F^-T) = -F^-T dF^T F^-T, so with q_a = F^-T gradN_a: K_ab += -c q_b q_a^T.
+  static void addHessian(const Mat3& F, const ShapeGradients& G, double c, Mat12& K) {
+    const Eigen::Matrix<double, 3, 4> q = F.inverse().transpose() * G.transpose();
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) K.block<3, 3>(3 * a, 3 * b) -= c * q.col(b) * q.col(a).transpose();
+  }
+};
+
+template <class M>
+constexpr bool hasVolumetricSplit = requires { VolumetricSplit<M>::theta(Mat3()); };
+
 }  // namespace
 
-TetElasticity::TetElasticity(const TetMesh& mesh, std::vector<Material> regionMaterials)
+TetElasticity::TetElasticity(const TetMesh& mesh, std::vector<Material> regionMaterials,
+                             int meanDilatationPatchTets)
     : T_(mesh.T), materials_(std::move(regionMaterials)) {
   if (materials_.empty()) throw InputError("elasticity: no material given");
   const Eigen::Index nt = mesh.numTets();
@@ -44,6 +79,29 @@ TetElasticity::TetElasticity(const TetMesh& mesh, std::vector<Material> regionMa
                                    t, r, materials_.size()));
     tetsOfRegion_[r].push_back(static_cast<int>(t));
   }
+  if (meanDilatationPatchTets != 1) {
+    for (const Material& m : materials_)
+      std::visit(
+          [](const auto& law) {
+            if constexpr (!hasVolumetricSplit<std::decay_t<decltype(law)>>)
+              throw InputError(fmt::format("material '{}' has no volumetric split for mean "
+                                           "dilatation; expected stvk or neohookean",
+                                           law.name()));
+          },
+          m);
+    patches_ = std::make_shared<const MeanDilatationPatches>(
+        makeMeanDilatationPatches(mesh, meanDilatationPatchTets));
+    patchesOfRegion_.resize(materials_.size());
+    for (int p = 0; p < patches_->numPatches(); ++p) {
+      const int t = patches_->tets[p].front();
+      patchesOfRegion_[materials_.size() == 1 ? 0 : mesh.regionOf(t)].push_back(p);
+    }
+  }
+}
+
+const std::vector<std::vector<int>>& TetElasticity::patchNodeSets() const {
+  static const std::vector<std::vector<int>> none;
+  return patches_ ? patches_->nodes : none;
 }
 
 // Calls visit(material, tets) once per region with the concrete material type, so the per-tet
@@ -55,6 +113,7 @@ void TetElasticity::forEachRegion(Visitor&& visit) const {
 }
 
 double TetElasticity::energy(const Eigen::VectorXd& x) const {
+  if (patches_) return patchEnergy(x);
   double W = 0.0;
   forEachRegion([&](const auto& material, const std::vector<int>& tets) {
     for (int t : tets) {
@@ -75,6 +134,7 @@ Eigen::Index TetElasticity::countInverted(const Eigen::VectorXd& x) const {
 }
 
 void TetElasticity::addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+  if (patches_) return addPatchForcesAndStiffness(x, nullptr, 1.0, f, nullptr);
   Eigen::Index inverted = 0;
   forEachRegion([&](const auto& material, const std::vector<int>& tets) {
     for (int t : tets) {
@@ -90,6 +150,7 @@ void TetElasticity::addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd&
 
 void TetElasticity::addForcesAndStiffness(const Eigen::VectorXd& x, const AssemblyPattern& pattern,
                                           double scale, Eigen::VectorXd& f, SparseMatrix& K) const {
+  if (patches_) return addPatchForcesAndStiffness(x, &pattern, scale, f, &K);
   Eigen::Index inverted = 0;
   double* values = K.valuePtr();
   forEachRegion([&](const auto& material, const std::vector<int>& tets) {
@@ -108,6 +169,101 @@ void TetElasticity::addForcesAndStiffness(const Eigen::VectorXd& x, const Assemb
         for (int c = 0; c < 12; ++c) values[slot[12 * r + c]] += Ke(r, c);
     }
   });
+  inverted_ = inverted;
+}
+
+double TetElasticity::patchEnergy(const Eigen::VectorXd& x) const {
+  double W = 0.0;
+  for (size_t r = 0; r < materials_.size(); ++r)
+    std::visit(
+        [&](const auto& material) {
+          using Split = VolumetricSplit<std::decay_t<decltype(material)>>;
+          if constexpr (hasVolumetricSplit<std::decay_t<decltype(material)>>) {
+            const auto dev = Split::deviatoric(material);
+            for (int p : patchesOfRegion_[r]) {
+              double VP = 0.0, VTheta = 0.0;
+              for (int t : patches_->tets[p]) {
+                const Mat3 F = deformationGradient(x, T_.row(t), gradN_[t]);
+                W += volume_[t] * dev.energy(F);
+                VTheta += volume_[t] * Split::theta(F);
+                VP += volume_[t];
+              }
+              W += 0.5 * material.lambda * VTheta * VTheta / VP;
+            }
+          }
+        },
+        materials_[r]);
+  return W;
+}
+
+// Per patch P with thetabar = sum_t V_t theta_t / V_P and g_t = V_t dtheta_t/dx:
+// f = sum_t f_dev,t + lambda thetabar sum_t g_t,
+// K = sum_t [K_dev,t + lambda thetabar V_t d2theta_t/dx2] + (lambda / V_P) (sum_t g_t)(sum_t g_t)^T.
+void TetElasticity::addPatchForcesAndStiffness(const Eigen::VectorXd& x,
+                                               const AssemblyPattern* pattern, double scale,
+                                               Eigen::VectorXd& f, SparseMatrix* K) const {
+  Eigen::Index inverted = 0;
+  double* values = K ? K->valuePtr() : nullptr;
+  std::vector<Mat3> Fs;
+  Eigen::VectorXd gSum;
+  for (size_t r = 0; r < materials_.size(); ++r)
+    std::visit(
+        [&](const auto& material) {
+          using Split = VolumetricSplit<std::decay_t<decltype(material)>>;
+          if constexpr (hasVolumetricSplit<std::decay_t<decltype(material)>>) {
+            const auto dev = Split::deviatoric(material);
+            for (int p : patchesOfRegion_[r]) {
+              const auto& tets = patches_->tets[p];
+              const auto& local = patches_->local[p];
+              const int m = static_cast<int>(patches_->nodes[p].size());
+              Fs.resize(tets.size());
+              double VP = 0.0, VTheta = 0.0;
+              for (size_t k = 0; k < tets.size(); ++k) {
+                const int t = tets[k];
+                Fs[k] = deformationGradient(x, T_.row(t), gradN_[t]);
+                if (Fs[k].determinant() <= 0) ++inverted;
+                VTheta += volume_[t] * Split::theta(Fs[k]);
+                VP += volume_[t];
+              }
+              const double lambdaTheta = material.lambda * VTheta / VP;
+              gSum.setZero(3 * m);
+              for (size_t k = 0; k < tets.size(); ++k) {
+                const int t = tets[k];
+                const Eigen::Vector4i tet = T_.row(t);
+                const auto& G = gradN_[t];
+                const Eigen::Matrix<double, 3, 4> g =
+                    volume_[t] * Split::dTheta(Fs[k]) * G.transpose();
+                ElementForces H;
+                Mat12 Ke;
+                if (K) {
+                  elementForcesAndStiffness(dev, Fs[k], G, volume_[t], H, Ke);
+                  Split::addHessian(Fs[k], G, lambdaTheta * volume_[t], Ke);
+                  if (scale != 1.0) Ke *= scale;
+                  const int* slot = pattern->tetSlots(t);
+                  for (int i = 0; i < 12; ++i)
+                    for (int j = 0; j < 12; ++j) values[slot[12 * i + j]] += Ke(i, j);
+                } else {
+                  H.noalias() = volume_[t] * dev.pk1(Fs[k]) * G.transpose();
+                }
+                H += lambdaTheta * g;
+                for (int a = 0; a < 4; ++a) {
+                  f.segment<3>(3 * tet(a)) += H.col(a);
+                  gSum.segment<3>(3 * local[4 * k + a]) += g.col(a);
+                }
+              }
+              if (K) {
+                const double c = scale * material.lambda / VP;
+                const int* slot = pattern->cliqueSlots(p);
+                const int n = 3 * m;
+                for (int i = 0; i < n; ++i) {
+                  const double ci = c * gSum(i);
+                  for (int j = 0; j < n; ++j) values[slot[n * i + j]] += ci * gSum(j);
+                }
+              }
+            }
+          }
+        },
+        materials_[r]);
   inverted_ = inverted;
 }
 
