@@ -77,7 +77,9 @@ TEST(MechanicalForecastModel, SharedFactorisationGivesTheDirectResult) {
     const Eigen::VectorXd E0 = Eigen::VectorXd::Constant(1, 8000.0);
     const Eigen::VectorXd E1 = Eigen::VectorXd::Constant(1, 9000.0);
     w0.forecast(state, E0, a, p);  // publishes its factorisation, for now or for the next step
-    if (withinStep || step > 0) ASSERT_TRUE(shared->factor);
+    if (withinStep || step > 0) {
+      ASSERT_TRUE(shared->factor);
+    }
     w1.forecast(state, E1, b, p);  // preconditioned by worker 0's factor of another E
     ref.forecast(state, E1, c, p);
     EXPECT_LT((b - c).norm(), 1e-8 * c.norm()) << "step " << step;
