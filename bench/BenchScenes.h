@@ -44,11 +44,13 @@ inline constexpr double kDt = 0.01;               // s
 // Cylinder r 1.5 cm, L 18 cm along z, StVK E 8 kPa nu 0.49 (thesis §3.4), nodes at z = 0 and
 // z = L fixed, 0.2 N (total) sine load along y (period 1 s) on the outer-surface nodes of the
 // layer nearest mid-length with y > 0. targetNodes 915 gives the thesis' 930-node mesh.
-inline Scene makeCylinderScene(int targetNodes, const std::string& material = "stvk") {
+// patchTets > 1: mean dilatation over patches of that many tets.
+inline Scene makeCylinderScene(int targetNodes, const std::string& material = "stvk",
+                               int patchTets = 1) {
   constexpr double r = 0.015, L = 0.18;
   auto mesh = std::make_shared<const TetMesh>(makeCylinderMesh(r, L, targetNodes));
-  MechanicalModel model =
-      makeMechanicalModel(mesh, {makeMaterial(material, 8000.0, 0.49)}, kDensity, MassKind::Lumped);
+  MechanicalModel model = makeMechanicalModel(mesh, {makeMaterial(material, 8000.0, 0.49)},
+                                              kDensity, MassKind::Lumped, patchTets);
   const double tol = 1e-9;
   DirichletRegion ends;
   ends.nodes = nodesWhere(*mesh, [&](const Vec3& p) { return p.z() < tol || p.z() > L - tol; });
