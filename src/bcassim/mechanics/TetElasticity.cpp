@@ -152,7 +152,6 @@ void TetElasticity::addForcesAndStiffness(const Eigen::VectorXd& x, const Assemb
                                           double scale, Eigen::VectorXd& f, SparseMatrix& K) const {
   if (patches_) return addPatchForcesAndStiffness(x, &pattern, scale, f, &K);
   Eigen::Index inverted = 0;
-  double* values = K.valuePtr();
   forEachRegion([&](const auto& material, const std::vector<int>& tets) {
     for (int t : tets) {
       const Eigen::Vector4i tet = T_.row(t);
@@ -164,35 +163,41 @@ void TetElasticity::addForcesAndStiffness(const Eigen::VectorXd& x, const Assemb
       elementForcesAndStiffness(material, F, G, volume_[t], H, Ke);
       for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet(a)) += H.col(a);
       if (scale != 1.0) Ke *= scale;
-      const int* slot = pattern.tetSlots(t);
-      for (int r = 0; r < 12; ++r)
-        for (int c = 0; c < 12; ++c) values[slot[12 * r + c]] += Ke(r, c);
+      scatterTetBlock(pattern, t, Ke, K);
     }
   });
   inverted_ = inverted;
 }
 
-double TetElasticity::patchEnergy(const Eigen::VectorXd& x) const {
-  double W = 0.0;
+// Calls visit(material, split, patches) once per region with the concrete material type, its
+// VolumetricSplit and the region's patch indices (the constructor refused laws without a split).
+template <class Visitor>
+void TetElasticity::forEachPatchRegion(Visitor&& visit) const {
   for (size_t r = 0; r < materials_.size(); ++r)
     std::visit(
         [&](const auto& material) {
-          using Split = VolumetricSplit<std::decay_t<decltype(material)>>;
-          if constexpr (hasVolumetricSplit<std::decay_t<decltype(material)>>) {
-            const auto dev = Split::deviatoric(material);
-            for (int p : patchesOfRegion_[r]) {
-              double VP = 0.0, VTheta = 0.0;
-              for (int t : patches_->tets[p]) {
-                const Mat3 F = deformationGradient(x, T_.row(t), gradN_[t]);
-                W += volume_[t] * dev.energy(F);
-                VTheta += volume_[t] * Split::theta(F);
-                VP += volume_[t];
-              }
-              W += 0.5 * material.lambda * VTheta * VTheta / VP;
-            }
-          }
+          using M = std::decay_t<decltype(material)>;
+          if constexpr (hasVolumetricSplit<M>)
+            visit(material, VolumetricSplit<M>{}, patchesOfRegion_[r]);
         },
         materials_[r]);
+}
+
+double TetElasticity::patchEnergy(const Eigen::VectorXd& x) const {
+  double W = 0.0;
+  forEachPatchRegion([&](const auto& material, auto split, const std::vector<int>& patches) {
+    const auto dev = split.deviatoric(material);
+    for (int p : patches) {
+      double VP = 0.0, VTheta = 0.0;
+      for (int t : patches_->tets[p]) {
+        const Mat3 F = deformationGradient(x, T_.row(t), gradN_[t]);
+        W += volume_[t] * dev.energy(F);
+        VTheta += volume_[t] * split.theta(F);
+        VP += volume_[t];
+      }
+      W += 0.5 * material.lambda * VTheta * VTheta / VP;
+    }
+  });
   return W;
 }
 
@@ -206,64 +211,55 @@ void TetElasticity::addPatchForcesAndStiffness(const Eigen::VectorXd& x,
   double* values = K ? K->valuePtr() : nullptr;
   std::vector<Mat3> Fs;
   Eigen::VectorXd gSum;
-  for (size_t r = 0; r < materials_.size(); ++r)
-    std::visit(
-        [&](const auto& material) {
-          using Split = VolumetricSplit<std::decay_t<decltype(material)>>;
-          if constexpr (hasVolumetricSplit<std::decay_t<decltype(material)>>) {
-            const auto dev = Split::deviatoric(material);
-            for (int p : patchesOfRegion_[r]) {
-              const auto& tets = patches_->tets[p];
-              const auto& local = patches_->local[p];
-              const int m = static_cast<int>(patches_->nodes[p].size());
-              Fs.resize(tets.size());
-              double VP = 0.0, VTheta = 0.0;
-              for (size_t k = 0; k < tets.size(); ++k) {
-                const int t = tets[k];
-                Fs[k] = deformationGradient(x, T_.row(t), gradN_[t]);
-                if (Fs[k].determinant() <= 0) ++inverted;
-                VTheta += volume_[t] * Split::theta(Fs[k]);
-                VP += volume_[t];
-              }
-              const double lambdaTheta = material.lambda * VTheta / VP;
-              gSum.setZero(3 * m);
-              for (size_t k = 0; k < tets.size(); ++k) {
-                const int t = tets[k];
-                const Eigen::Vector4i tet = T_.row(t);
-                const auto& G = gradN_[t];
-                const Eigen::Matrix<double, 3, 4> g =
-                    volume_[t] * Split::dTheta(Fs[k]) * G.transpose();
-                ElementForces H;
-                Mat12 Ke;
-                if (K) {
-                  elementForcesAndStiffness(dev, Fs[k], G, volume_[t], H, Ke);
-                  Split::addHessian(Fs[k], G, lambdaTheta * volume_[t], Ke);
-                  if (scale != 1.0) Ke *= scale;
-                  const int* slot = pattern->tetSlots(t);
-                  for (int i = 0; i < 12; ++i)
-                    for (int j = 0; j < 12; ++j) values[slot[12 * i + j]] += Ke(i, j);
-                } else {
-                  H.noalias() = volume_[t] * dev.pk1(Fs[k]) * G.transpose();
-                }
-                H += lambdaTheta * g;
-                for (int a = 0; a < 4; ++a) {
-                  f.segment<3>(3 * tet(a)) += H.col(a);
-                  gSum.segment<3>(3 * local[4 * k + a]) += g.col(a);
-                }
-              }
-              if (K) {
-                const double c = scale * material.lambda / VP;
-                const int* slot = pattern->cliqueSlots(p);
-                const int n = 3 * m;
-                for (int i = 0; i < n; ++i) {
-                  const double ci = c * gSum(i);
-                  for (int j = 0; j < n; ++j) values[slot[n * i + j]] += ci * gSum(j);
-                }
-              }
-            }
-          }
-        },
-        materials_[r]);
+  forEachPatchRegion([&](const auto& material, auto split, const std::vector<int>& patches) {
+    const auto dev = split.deviatoric(material);
+    for (int p : patches) {
+      const auto& tets = patches_->tets[p];
+      const auto& local = patches_->local[p];
+      const int m = static_cast<int>(patches_->nodes[p].size());
+      Fs.resize(tets.size());
+      double VP = 0.0, VTheta = 0.0;
+      for (size_t k = 0; k < tets.size(); ++k) {
+        const int t = tets[k];
+        Fs[k] = deformationGradient(x, T_.row(t), gradN_[t]);
+        if (Fs[k].determinant() <= 0) ++inverted;
+        VTheta += volume_[t] * split.theta(Fs[k]);
+        VP += volume_[t];
+      }
+      const double lambdaTheta = material.lambda * VTheta / VP;
+      gSum.setZero(3 * m);
+      for (size_t k = 0; k < tets.size(); ++k) {
+        const int t = tets[k];
+        const Eigen::Vector4i tet = T_.row(t);
+        const auto& G = gradN_[t];
+        const Eigen::Matrix<double, 3, 4> g = volume_[t] * split.dTheta(Fs[k]) * G.transpose();
+        ElementForces H;
+        if (K) {
+          Mat12 Ke;
+          elementForcesAndStiffness(dev, Fs[k], G, volume_[t], H, Ke);
+          split.addHessian(Fs[k], G, lambdaTheta * volume_[t], Ke);
+          if (scale != 1.0) Ke *= scale;
+          scatterTetBlock(*pattern, t, Ke, *K);
+        } else {
+          H.noalias() = volume_[t] * dev.pk1(Fs[k]) * G.transpose();
+        }
+        H += lambdaTheta * g;
+        for (int a = 0; a < 4; ++a) {
+          f.segment<3>(3 * tet(a)) += H.col(a);
+          gSum.segment<3>(3 * local[4 * k + a]) += g.col(a);
+        }
+      }
+      if (K) {
+        const double c = scale * material.lambda / VP;
+        const int* slot = pattern->cliqueSlots(p);
+        const int n = 3 * m;
+        for (int i = 0; i < n; ++i) {
+          const double ci = c * gSum(i);
+          for (int j = 0; j < n; ++j) values[slot[n * i + j]] += ci * gSum(j);
+        }
+      }
+    }
+  });
   inverted_ = inverted;
 }
 

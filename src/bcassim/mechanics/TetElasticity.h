@@ -50,6 +50,8 @@ class TetElasticity {
  private:
   template <class Visitor>
   void forEachRegion(Visitor&& visit) const;
+  template <class Visitor>
+  void forEachPatchRegion(Visitor&& visit) const;
   // Mean-dilatation versions of the three evaluations (K and pattern null for forces only).
   double patchEnergy(const Eigen::VectorXd& x) const;
   void addPatchForcesAndStiffness(const Eigen::VectorXd& x, const AssemblyPattern* pattern,
