@@ -1,4 +1,5 @@
 // Scene files: defaults, every section turned into the model, variants, and located errors.
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -108,6 +109,26 @@ output: {every: 3, pvd: false}
   EXPECT_DOUBLE_EQ(load.profile.phase, 0.5);
   EXPECT_EQ(s.output.every, 3);
   EXPECT_FALSE(s.output.pvd);
+}
+
+TEST(SceneLoader, SurfaceDistributionSharesTheForceByArea) {
+  // The end face x = 0.1 m of a 0.02 x 0.02 m box, two triangles of equal area: the two nodes on
+  // their shared diagonal carry 1/3 of the force each, the other two 1/6 (an even split: 1/4).
+  const Scene s = load(std::string(kBox) + R"(loads:
+  - region: {half_space: {point: [0.0999, 0, 0], normal: [1, 0, 0]}}
+    total_force: [0, 0.4, 0]      # N
+    distribution: surface
+)");
+  ASSERT_EQ(s.model.loads.size(), 1u);
+  const NodalLoad& load = s.model.loads[0];
+  ASSERT_EQ(load.nodes.size(), 4u);
+  ASSERT_EQ(load.weights.size(), 4u);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * s.model.mesh->numNodes());
+  load.addTo(0.0, f);
+  EXPECT_NEAR(f.sum(), 0.4, 1e-12);
+  std::vector<double> w = load.weights;
+  std::sort(w.begin(), w.end());
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(w[k], k < 2 ? 1.0 / 6 : 1.0 / 3, 1e-12);
 }
 
 TEST(SceneLoader, SpringsAreExtrudedAlongTheOutwardNormal) {
@@ -286,6 +307,14 @@ TEST(SceneLoader, ErrorsNameLineKeyAndExpectation) {
                         "    total_force: [1,0,0]\n    force_per_node: [1,0,0]"),
             "scene.yaml:5: loads[0].force_per_node: expected either total_force or force_per_node, "
             "not both");
+  EXPECT_EQ(errorOf(b + "loads:\n  - region: {sphere: {center: [0.05, 0.01, 0.01], radius: 0.001}}\n"
+                        "    total_force: [1,0,0]\n    distribution: surface"),
+            "scene.yaml:3: loads[0].region: the region holds no part of the boundary surface; "
+            "expected a region that a surface load can act on");
+  EXPECT_EQ(errorOf(b + "loads:\n  - region: {nodes: [0]}\n    force_per_node: [1,0,0]\n"
+                        "    distribution: surface"),
+            "scene.yaml:4: loads[0].force_per_node: expected total_force with distribution: "
+            "surface");
   EXPECT_EQ(errorOf(b + "springs:\n  attachments:\n    - region: {nodes: [0]}\n      group: 2"),
             "scene.yaml:5: springs.attachments[0].group: expected a group index below 1 "
             "(springs.groups), got 2");

@@ -10,6 +10,7 @@
 #include "bcassim/mechanics/StaticSolver.h"
 #include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
+#include "bcassim/mesh/SurfaceTraction.h"
 
 namespace bcassim {
 namespace {
@@ -119,6 +120,54 @@ TEST(FemUniaxialStretch, NeoHookeanMatchesClosedForm) {
   for (double a : {1.3, 0.8})
     checkUniaxial(NeoHookeanMaterial{L.lambda, L.mu}, L.lambda, L.mu,
                   neoHookeanUniaxial(a, L.lambda, L.mu), a);
+}
+
+// Uniaxial stretch driven by a force instead of a grip: a dead traction P11 on the face x = 1,
+// made nodal forces by the surface-traction shares, must give the homogeneous stretch a at every
+// node of that face. An even split of the same force over the face's nodes must not (corner
+// nodes would get as much as the middle one): that is why loads have distribution: surface.
+TEST(FemUniaxialStretch, SurfaceTractionGivesTheHomogeneousStretch) {
+  const auto L = LameParameters::fromYoungPoisson(1e4, 0.3);
+  const double a = 1.1;
+  const Uniaxial expected = stvkUniaxial(a, L.lambda, L.mu);
+  double spread[2] = {0, 0};
+  for (bool consistent : {true, false}) {
+    MechanicalModel model = boxModel(Vec3(1, 1, 1), 2, 2, 2, StvkMaterial{L.lambda, L.mu});
+    const TetMesh& mesh = *model.mesh;
+    auto x0 = nodesWhere(mesh, [](const Vec3& p) { return p.x() < 1e-12; });
+    auto y0 = nodesWhere(mesh, [](const Vec3& p) { return p.y() < 1e-12; });
+    auto z0 = nodesWhere(mesh, [](const Vec3& p) { return p.z() < 1e-12; });
+    model.dirichlet = DirichletConditions({{x0, Vec3::Zero(), {}, {true, false, false}},
+                                           {y0, Vec3::Zero(), {}, {false, true, false}},
+                                           {z0, Vec3::Zero(), {}, {false, false, true}}},
+                                          *model.pattern);
+    const auto traction =
+        surfaceTractionShares(mesh, BoxRegion{Vec3(1 - 1e-9, -1, -1), Vec3(2, 2, 2)});
+    NodalLoad load;
+    load.nodes = traction.nodes;
+    load.forcePerNode = Vec3(expected.P11 * traction.area, 0, 0);  // N: P11 on 1 m^2
+    if (consistent)
+      load.weights = traction.shares;
+    else
+      load.forcePerNode /= static_cast<double>(load.nodes.size());
+    model.loads.push_back(load);
+    Eigen::VectorXd x = model.restPositions();
+    StaticSolver solver(model, makeLinearSolver("cholmod"), {1e-13, 50, 4});
+    ASSERT_TRUE(solver.solve(model, 0.0, x).converged);
+    double lo = 1e9, hi = -1e9;
+    for (int n : traction.nodes) {
+      lo = std::min(lo, x(3 * n));
+      hi = std::max(hi, x(3 * n));
+    }
+    spread[consistent] = hi - lo;
+    if (consistent) {
+      EXPECT_NEAR(lo, a, 1e-6);
+      EXPECT_NEAR(hi, a, 1e-6);
+      const int corner = traction.nodes.back();  // (1,1,1)
+      EXPECT_NEAR(x(3 * corner + 1), expected.b, 1e-6);
+    }
+  }
+  EXPECT_GT(spread[false], 1e-3);  // m: the even split bends the loaded face
 }
 
 // The assembled stiffness (elasticity + springs + control points) equals finite differences of

@@ -21,6 +21,7 @@
 #include "bcassim/ligaments/LigamentSprings.h"
 #include "bcassim/mesh/BoundarySurface.h"
 #include "bcassim/mesh/MeshGenerators.h"
+#include "bcassim/mesh/SurfaceTraction.h"
 
 namespace bcassim {
 
@@ -227,16 +228,30 @@ std::vector<NodalLoad> readLoads(const YamlSource& src, const MapReader& top, co
   const auto entries = listElements(src, top.node("loads"), "loads");
   for (size_t i = 0; i < entries.size(); ++i) {
     MapReader r(src, entries[i], indexed("loads", i),
-                {"region", "total_force", "force_per_node", "profile"});
+                {"region", "total_force", "force_per_node", "distribution", "profile"});
     NodalLoad load;
-    load.nodes = requiredRegion(src, r, mesh);
     if (r.has("total_force") && r.has("force_per_node"))
       r.fail("force_per_node", "expected either total_force or force_per_node, not both");
-    if (r.has("force_per_node"))
-      load.forcePerNode = r.vec3("force_per_node", Vec3::Zero(), "N");
-    else
-      load.forcePerNode =
-          r.vec3("total_force", Vec3::Zero(), "N") / static_cast<double>(load.nodes.size());
+    const std::string distribution = r.choice("distribution", "nodes", {"nodes", "surface"});
+    if (distribution == "surface") {
+      if (r.has("force_per_node"))
+        r.fail("force_per_node", "expected total_force with distribution: surface");
+      if (!r.has("region")) failAt(src, r.self(), r.pathOf("region"), "missing (which surface)");
+      const Region region = app::parseRegion(src, r.node("region"), r.pathOf("region"));
+      SurfaceTractionShares traction;
+      app::withContext(src, r.node("region"), r.pathOf("region"),
+                       [&] { traction = surfaceTractionShares(mesh, region); });
+      load.nodes = std::move(traction.nodes);
+      load.weights = std::move(traction.shares);
+      load.forcePerNode = r.vec3("total_force", Vec3::Zero(), "N");
+    } else {
+      load.nodes = requiredRegion(src, r, mesh);
+      if (r.has("force_per_node"))
+        load.forcePerNode = r.vec3("force_per_node", Vec3::Zero(), "N");
+      else
+        load.forcePerNode =
+            r.vec3("total_force", Vec3::Zero(), "N") / static_cast<double>(load.nodes.size());
+    }
     load.profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
     loads.push_back(std::move(load));
   }

@@ -11,15 +11,21 @@
 
 namespace bcassim {
 
-// force(t) = forcePerNode * profile(t) on every node of `nodes` (N per node).
+// force(t) = forcePerNode * profile(t) on every node of `nodes` (N per node); with `weights`
+// (one per node; a surface traction's shares, summing to 1) node k gets weights[k] times that.
 struct NodalLoad {
   std::vector<int> nodes;
   Vec3 forcePerNode = Vec3::Zero();
   TimeProfile profile;
+  std::vector<double> weights;  // empty: 1 for every node
 
   void addTo(double t, Eigen::VectorXd& f) const {
     const Vec3 force = profile.value(t) * forcePerNode;
-    for (int n : nodes) f.segment<3>(3 * n) += force;
+    if (weights.empty()) {
+      for (int n : nodes) f.segment<3>(3 * n) += force;
+      return;
+    }
+    for (size_t k = 0; k < nodes.size(); ++k) f.segment<3>(3 * nodes[k]) += weights[k] * force;
   }
 };
 

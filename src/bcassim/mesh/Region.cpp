@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "bcassim/Error.h"
 #include "bcassim/mesh/BoundarySurface.h"
@@ -124,6 +125,29 @@ std::vector<int> selectTets(const TetMesh& mesh, const Region& region) {
           return out;
         } else {
           return pointsIn(r, mesh.numTets(), center);
+        }
+      },
+      region);
+}
+
+bool containsSurfacePoint(const Region& region, const Vec3& x, const Vec3& faceNormal) {
+  return std::visit(
+      [&](const auto& r) -> bool {
+        using R = std::decay_t<decltype(r)>;
+        if constexpr (std::is_same_v<R, IndexListRegion>) {
+          throw std::logic_error("containsSurfacePoint: an index list region holds no points");
+        } else if constexpr (std::is_same_v<R, SurfacePatchRegion>) {
+          std::visit([](const auto& s) { check(s); }, r.within);
+          if (!std::visit([&](const auto& s) { return contains(s, x); }, r.within)) return false;
+          if (!r.direction) return true;
+          if (!(r.direction->squaredNorm() > 0))
+            throw InputError(
+                "surface patch region: direction is zero; expected a non-zero direction vector");
+          return faceNormal.dot(r.direction->normalized()) >=
+                 std::cos(r.maxAngleDeg * std::numbers::pi / 180.0);
+        } else {
+          check(r);
+          return contains(r, x);
         }
       },
       region);

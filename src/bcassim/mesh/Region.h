@@ -51,4 +51,10 @@ std::vector<int> selectNodes(const TetMesh& mesh, const Region& region);
 // Throws as selectNodes.
 std::vector<int> selectTets(const TetMesh& mesh, const Region& region);
 
+// Whether rest point x of the boundary surface, on a face with unit outward rest normal
+// faceNormal, lies in the region (a SurfacePatchRegion tests the face normal against its
+// direction). An IndexListRegion holds no point: it selects ids, so this throws std::logic_error.
+// Throws InputError for an ill-formed region, as selectNodes.
+bool containsSurfacePoint(const Region& region, const Vec3& x, const Vec3& faceNormal);
+
 }  // namespace bcassim
