@@ -19,9 +19,9 @@ struct MeanDilatationPatches {
 
 // Greedy, deterministic partition: walking the tets in index order, each tet not yet taken starts
 // a patch that grows over face neighbours of the same region, each time by the one adding the
-// fewest new nodes (compact patches, small stiffness fill), until it holds `patchTets` tets. A tet left alone (all neighbours taken) joins a neighbouring patch of its
-// region. patchTets = 1 gives one patch per tet (the plain element). Throws InputError for
-// patchTets < 1.
+// fewest new nodes (compact patches, small stiffness fill), until it holds `patchTets` tets. A tet
+// left alone (all neighbours taken) joins a neighbouring patch of its region. patchTets = 1 gives
+// one patch per tet (the plain element). Throws InputError for patchTets < 1.
 MeanDilatationPatches makeMeanDilatationPatches(const TetMesh& mesh, int patchTets);
 
 }  // namespace bcassim

@@ -1,7 +1,5 @@
 #include "bcassim/mesh/SurfaceTraction.h"
 
-#include <fmt/format.h>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <variant>
@@ -16,14 +14,9 @@ SurfaceTractionShares surfaceTractionShares(const TetMesh& mesh, const Region& r
   const int m = std::max(1, subdivisions);
   const BoundarySurface boundary = extractBoundary(mesh);
   std::vector<char> listed;
-  if (const auto* list = std::get_if<IndexListRegion>(&region)) {
+  if (std::holds_alternative<IndexListRegion>(region)) {
     listed.assign(mesh.numNodes(), 0);
-    for (int i : list->indices) {
-      if (i < 0 || i >= mesh.numNodes())
-        throw InputError(fmt::format("index list region: node {} out of range; expected [0, {})",
-                                     i, mesh.numNodes()));
-      listed[i] = 1;
-    }
+    for (int i : selectNodes(mesh, region)) listed[i] = 1;  // checks the ids
   }
   // Barycentric coordinates (of nodes 1 and 2) of the m^2 sub-triangle centroids: m(m+1)/2
   // upward and m(m-1)/2 downward sub-triangles, all of area 1/m^2 of the face.
