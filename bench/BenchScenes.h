@@ -4,6 +4,7 @@
 // factorisation and the solve can be timed on their own.
 #pragma once
 #include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -11,8 +12,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <tbb/global_control.h>
 
 #include "bcassim/mechanics/ImplicitEuler.h"
 #include "bcassim/mechanics/MechanicalModel.h"
@@ -36,10 +35,10 @@ struct Scene {
 };
 
 // Common time-integration settings of every benchmark scene (thesis-like values).
-inline constexpr double kDensity = 1000.0;        // kg/m^3
-inline constexpr double kRayleighMass = 0.1;      // 1/s
+inline constexpr double kDensity = 1000.0;          // kg/m^3
+inline constexpr double kRayleighMass = 0.1;        // 1/s
 inline constexpr double kRayleighStiffness = 0.01;  // s
-inline constexpr double kDt = 0.01;               // s
+inline constexpr double kDt = 0.01;                 // s
 
 // Cylinder r 1.5 cm, L 18 cm along z, StVK E 8 kPa nu 0.49 (thesis §3.4), nodes at z = 0 and
 // z = L fixed, 0.2 N (total) sine load along y (period 1 s) on the outer-surface nodes of the
@@ -58,7 +57,8 @@ inline Scene makeCylinderScene(int targetNodes, const std::string& material = "s
 
   double zMid = 0, best = 1e300;  // z of the node layer nearest L/2
   for (Eigen::Index i = 0; i < mesh->numNodes(); ++i)
-    if (std::abs(mesh->V(i, 2) - 0.5 * L) < best) best = std::abs(mesh->V(i, 2) - 0.5 * L), zMid = mesh->V(i, 2);
+    if (std::abs(mesh->V(i, 2) - 0.5 * L) < best)
+      best = std::abs(mesh->V(i, 2) - 0.5 * L), zMid = mesh->V(i, 2);
   NodalLoad load;
   load.nodes = nodesWhere(*mesh, [&](const Vec3& p) {
     return std::abs(p.z() - zMid) < tol && std::hypot(p.x(), p.y()) > 0.99 * r && p.y() > 0;
@@ -77,8 +77,8 @@ inline Scene makeCylinderScene(int targetNodes, const std::string& material = "s
 inline Scene makeBeamScene(int targetTets, const std::string& material) {
   const Vec3 size(0.15, 0.03, 0.03);
   auto mesh = std::make_shared<const TetMesh>(makeBoxMeshWithTargetTets(size, targetTets));
-  MechanicalModel model =
-      makeMechanicalModel(mesh, {makeMaterial(material, 1.542e6, 0.49)}, kDensity, MassKind::Lumped);
+  MechanicalModel model = makeMechanicalModel(mesh, {makeMaterial(material, 1.542e6, 0.49)},
+                                              kDensity, MassKind::Lumped);
   const double tol = 1e-9;
   DirichletRegion fixed;
   fixed.nodes = nodesWhere(*mesh, [&](const Vec3& p) { return p.x() < tol; });

@@ -92,7 +92,8 @@ void BM_RegistrationSynthetic5k(benchmark::State& st) {
 void BM_RegistrationTwoLivers(benchmark::State& st) {
   const char* env = std::getenv("BCASSIM_DATA");
   const std::filesystem::path dir = std::filesystem::path(env ? env : "../shared/data") / "livers";
-  if (!std::filesystem::exists(dir / "LiTS-0.obj") || !std::filesystem::exists(dir / "LiTS-1.obj")) {
+  if (!std::filesystem::exists(dir / "LiTS-0.obj") ||
+      !std::filesystem::exists(dir / "LiTS-1.obj")) {
     st.SkipWithError("no livers/LiTS-0.obj, LiTS-1.obj under $BCASSIM_DATA (../shared/data)");
     return;
   }

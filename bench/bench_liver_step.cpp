@@ -10,6 +10,8 @@
 // gives the median over its steps (after 5 warm-up steps) with the per-step CPU breakdown.
 //
 //   bench_liver_step [SURFACE|NAME|phantom] [STEPS] [OUT_DIR]     (defaults: phantom 100 out/bench)
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -17,15 +19,13 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
-#include "bcassim/app/AssimilationRunner.h"
-#include "bcassim/app/LiverCommand.h"
-#include "bcassim/app/LiverPhantom.h"
-#include "bcassim/app/LiverScenario.h"
-#include "bcassim/app/SceneLoader.h"
-#include "bcassim/app/SimulationRunner.h"
+#include "bcassim/experiments/liver/LiverPhantom.h"
+#include "bcassim/experiments/liver/LiverScenario.h"
+#include "bcassim/experiments/liver/LiverSurfacePath.h"
 #include "bcassim/io/CsvTable.h"
+#include "bcassim/run/AssimilationRunner.h"
+#include "bcassim/run/SimulationRunner.h"
+#include "bcassim/scene/SceneLoader.h"
 
 namespace {
 
@@ -73,7 +73,8 @@ Row measure(const std::filesystem::path& dir, const std::string& mode, int threa
   std::vector<double> totals = values("total_ms");
   std::sort(totals.begin(), totals.end());
   const double p95 =
-      totals.empty() ? 0.0 : totals[static_cast<size_t>(0.95 * static_cast<double>(totals.size() - 1))];
+      totals.empty() ? 0.0
+                     : totals[static_cast<size_t>(0.95 * static_cast<double>(totals.size() - 1))];
   return {mode,
           threads,
           column("total_ms"),
@@ -99,7 +100,8 @@ int main(int argc, char** argv) {
     o.surface = bcassim::resolveLiverSurface(liver);
     o.fineNodes = 3000;  // the truth only supplies the observed tracks here
     o.steps = o.observedSteps = steps;
-    const std::filesystem::path dir = out / ("liver-" + std::filesystem::path(liver).stem().string());
+    const std::filesystem::path dir =
+        out / ("liver-" + std::filesystem::path(liver).stem().string());
     const bcassim::LiverScenario scenario = bcassim::prepareLiverScenario(o, dir.string());
     bcassim::runSimulation(bcassim::loadScene((dir / "truth.yaml").string()),
                            (dir / "truth").string());
@@ -111,18 +113,20 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s, %d thread(s): %.1f ms\n", mode, threads, rows.back().step);
       }
     std::cout << fmt::format(
-        "liver {} ({} estimation nodes), {} steps of 0.02 s, 11 sigma points; medians (and mean, p95, max of the step) over steps "
+        "liver {} ({} estimation nodes), {} steps of 0.02 s, 11 sigma points; medians (and mean, "
+        "p95, max of the step) over steps "
         "6..{}\n\n",
         liver, scenario.coarse.outputNodes, steps, steps);
-    std::cout << "| tangent | threads | step (ms) | mean | p95 | max | forecast | correction | assembly CPU | solve CPU "
+    std::cout << "| tangent | threads | step (ms) | mean | p95 | max | forecast | correction | "
+                 "assembly CPU | solve CPU "
                  "| tangent CPU (mean per step) | PCG its / sigma point | vs own, 1 thread |\n"
                  "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const Row& r : rows)
       std::cout << fmt::format(
           "| {} | {} | **{:.1f}** | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {:.1f} | {:.1f} | "
           "{:.1f} | {:.1f} | {:.1f}x |\n",
-          r.mode, r.threads, r.step, r.mean, r.p95, r.max, r.forecast, r.correction, r.assembly, r.solve, r.tangent,
-          r.its, rows[0].step / r.step);
+          r.mode, r.threads, r.step, r.mean, r.p95, r.max, r.forecast, r.correction, r.assembly,
+          r.solve, r.tangent, r.its, rows[0].step / r.step);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "bench_liver_step: error: " << e.what() << "\n";

@@ -79,9 +79,9 @@ void registerAll() {
         ->Unit(kMillisecond)
         ->Iterations(kPcgSteps)
         ->UseRealTime();
-    benchmark::RegisterBenchmark((p + "assembly/" + m).c_str(),
-                                 [m](State& st) { BM_Assembly(st, m); })
-        ->Unit(kMillisecond);
+    benchmark::RegisterBenchmark((p + "assembly/" + m).c_str(), [m](State& st) {
+      BM_Assembly(st, m);
+    })->Unit(kMillisecond);
   }
 }
 

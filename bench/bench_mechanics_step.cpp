@@ -2,7 +2,8 @@
 // the implicit-Euler matrix (eq. 2.16), a direct solve with a stored factor, and full implicit-
 // Euler steps with "cholmod" (factorise every step) and "factorized-pcg" (thesis §4.5: factor
 // stored once, PCG reuses it). Scenes: the thesis cylinder (930 nodes) and a ~2,200-node
-// cylinder, plain and with mean dilatation (_md4); plus assembly alone on the 15x3x3 cm beam with ~8,600 tets for every material.
+// cylinder, plain and with mean dilatation (_md4); plus assembly alone on the 15x3x3 cm beam with
+// ~8,600 tets for every material.
 //
 // Targets (SPEC / brief): StVK assembly of ~8,600 tets <= 5 ms on one core; reuse-PCG step at
 // ~2,200 nodes <= 10 ms. Run through scripts/bench.sh, which sets one thread.
@@ -17,8 +18,8 @@
 namespace bcassim::bench {
 namespace {
 
-constexpr int kWarmupSteps = 25;   // the sine load peaks at t = 0.25 s
-constexpr int kTimedSteps = 100;   // one full load period (1 s) per repetition
+constexpr int kWarmupSteps = 25;  // the sine load peaks at t = 0.25 s
+constexpr int kTimedSteps = 100;  // one full load period (1 s) per repetition
 
 void BM_Assembly(benchmark::State& st, int targetNodes, int patchTets = 1) {
   const Scene scene = makeCylinderScene(targetNodes, "stvk", patchTets);
@@ -130,11 +131,12 @@ void registerAll() {
   using benchmark::State;
   for (int n : {915, 2200}) {
     const std::string p = "cylinder" + std::to_string(n) + "/";
-    benchmark::RegisterBenchmark((p + "assembly").c_str(), [n](State& st) { BM_Assembly(st, n); })
-        ->Unit(kMillisecond);
-    benchmark::RegisterBenchmark((p + "cholmod_factorize").c_str(),
-                                 [n](State& st) { BM_CholmodFactorize(st, n); })
-        ->Unit(kMillisecond);
+    benchmark::RegisterBenchmark((p + "assembly").c_str(), [n](State& st) {
+      BM_Assembly(st, n);
+    })->Unit(kMillisecond);
+    benchmark::RegisterBenchmark((p + "cholmod_factorize").c_str(), [n](State& st) {
+      BM_CholmodFactorize(st, n);
+    })->Unit(kMillisecond);
     for (std::string precision : {"double", "double-sweep", "single"})
       benchmark::RegisterBenchmark(
           (p + "cholmod_solve" + (precision == "double" ? "" : "_" + precision)).c_str(),
@@ -154,8 +156,9 @@ void registerAll() {
     for (const auto& [tol, label] : {std::pair{1e-8, "1e-8"}, std::pair{1e-6, "1e-6"}}) {
       RefreshPolicy policy;
       policy.relTol = tol;
-      benchmark::RegisterBenchmark((p + "step_factorized_pcg_tol" + label).c_str(),
-                                   [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
+      benchmark::RegisterBenchmark(
+          (p + "step_factorized_pcg_tol" + label).c_str(),
+          [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
           ->Unit(kMillisecond)
           ->Iterations(kTimedSteps)
           ->UseRealTime();
@@ -164,8 +167,9 @@ void registerAll() {
     {
       RefreshPolicy policy;
       policy.singlePrecision = false;
-      benchmark::RegisterBenchmark((p + "step_factorized_pcg_double").c_str(),
-                                   [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
+      benchmark::RegisterBenchmark(
+          (p + "step_factorized_pcg_double").c_str(),
+          [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
           ->Unit(kMillisecond)
           ->Iterations(kTimedSteps)
           ->UseRealTime();
@@ -178,21 +182,22 @@ void registerAll() {
         policy.everyNMatrices = every;
         policy.background = true;
         policy.singlePrecision = single;
-        benchmark::RegisterBenchmark((p + "step_factorized_pcg_background_every" +
-                                      std::to_string(every) + (single ? "" : "_double"))
-                                         .c_str(),
-                                     [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
+        benchmark::RegisterBenchmark(
+            (p + "step_factorized_pcg_background_every" + std::to_string(every) +
+             (single ? "" : "_double"))
+                .c_str(),
+            [n, policy](State& st) { BM_Step(st, n, "factorized-pcg", policy); })
             ->Unit(kMillisecond)
             ->Iterations(kTimedSteps)
             ->UseRealTime();
       }
     // Mean dilatation over 4-tet patches: denser matrix (each patch couples its ~7 nodes).
-    benchmark::RegisterBenchmark((p + "assembly_md4").c_str(),
-                                 [n](State& st) { BM_Assembly(st, n, 4); })
-        ->Unit(kMillisecond);
-    benchmark::RegisterBenchmark((p + "cholmod_factorize_md4").c_str(),
-                                 [n](State& st) { BM_CholmodFactorize(st, n, 4); })
-        ->Unit(kMillisecond);
+    benchmark::RegisterBenchmark((p + "assembly_md4").c_str(), [n](State& st) {
+      BM_Assembly(st, n, 4);
+    })->Unit(kMillisecond);
+    benchmark::RegisterBenchmark((p + "cholmod_factorize_md4").c_str(), [n](State& st) {
+      BM_CholmodFactorize(st, n, 4);
+    })->Unit(kMillisecond);
     benchmark::RegisterBenchmark(
         (p + "step_factorized_pcg_md4").c_str(),
         [n](State& st) { BM_Step(st, n, "factorized-pcg", {}, "stvk", 4); })
@@ -208,9 +213,9 @@ void registerAll() {
         ->UseRealTime();
   }
   for (std::string m : {"linear", "corotational", "stvk", "neohookean", "mooneyrivlin", "ogden"})
-    benchmark::RegisterBenchmark(("beam8600/assembly/" + m).c_str(),
-                                 [m](State& st) { BM_BeamAssembly(st, m); })
-        ->Unit(kMillisecond);
+    benchmark::RegisterBenchmark(("beam8600/assembly/" + m).c_str(), [m](State& st) {
+      BM_BeamAssembly(st, m);
+    })->Unit(kMillisecond);
 }
 
 }  // namespace

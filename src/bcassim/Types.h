@@ -8,7 +8,8 @@ namespace bcassim {
 using Vec3 = Eigen::Vector3d;
 using Vec4 = Eigen::Vector4d;
 using Mat3 = Eigen::Matrix3d;
-using Mat9 = Eigen::Matrix<double, 9, 9>;  // d vec(P) / d vec(F), vec() column-major as Eigen stores
+using Mat9 =
+    Eigen::Matrix<double, 9, 9>;  // d vec(P) / d vec(F), vec() column-major as Eigen stores
 using Mat12 = Eigen::Matrix<double, 12, 12>;
 using Vec12 = Eigen::Matrix<double, 12, 1>;
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;

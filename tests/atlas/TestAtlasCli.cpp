@@ -22,8 +22,8 @@ struct CliRun {
 };
 
 CliRun runCli(const fs::path& dir, const std::string& args) {
-  const std::string cmd = "cd '" + dir.string() + "' && '" + BCASSIM_BINARY + "' " + args +
-                          " > cli.out 2> cli.err";
+  const std::string cmd =
+      "cd '" + dir.string() + "' && '" + BCASSIM_BINARY + "' " + args + " > cli.out 2> cli.err";
   const int status = std::system(cmd.c_str());
   auto slurp = [&](const char* name) {
     std::ifstream f(dir / name);
@@ -51,8 +51,7 @@ TEST(AtlasCli, DistancePrintsTheVarifoldDistanceAndBadInputIsOneLine) {
   TriMesh am = a, bm = b;
   am.V *= 1e-3;  // --scale defaults to 1e-3 (mm files)
   bm.V *= 1e-3;
-  const double expected =
-      FaceKernelDistance(bm, 0.01, FaceKernelKind::Current).value(am.V, am.F);
+  const double expected = FaceKernelDistance(bm, 0.01, FaceKernelKind::Current).value(am.V, am.F);
   EXPECT_NEAR(std::stod(diff.out), expected, 1e-8 * expected);
   const CliRun bad = runCli(dir, "atlas distance a.obj missing.obj");
   EXPECT_EQ(bad.code, 2);
@@ -60,7 +59,8 @@ TEST(AtlasCli, DistancePrintsTheVarifoldDistanceAndBadInputIsOneLine) {
   EXPECT_EQ(bad.err.find('\n'), bad.err.size() - 1) << bad.err;  // one line
   const CliRun noAtlas = runCli(dir, "atlas transfer nowhere a.obj");
   EXPECT_EQ(noAtlas.code, 2);
-  EXPECT_NE(noAtlas.err.find("nowhere: expected an atlas folder"), std::string::npos) << noAtlas.err;
+  EXPECT_NE(noAtlas.err.find("nowhere: expected an atlas folder"), std::string::npos)
+      << noAtlas.err;
   fs::remove_all(dir);
 }
 

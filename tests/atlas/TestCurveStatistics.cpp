@@ -24,8 +24,7 @@ Eigen::MatrixX3d rotatedArc(double R, double phi, double limit, int n) {
   Eigen::MatrixX3d c(n, 3);
   for (int i = 0; i < n; ++i) {
     const double t = -limit + 2.0 * limit * i / (n - 1);
-    c.row(i) << -R * std::cos(t) * std::sin(phi), R * std::cos(t) * std::cos(phi),
-        R * std::sin(t);
+    c.row(i) << -R * std::cos(t) * std::sin(phi), R * std::cos(t) * std::cos(phi), R * std::sin(t);
   }
   return c;
 }
@@ -33,9 +32,9 @@ Eigen::MatrixX3d rotatedArc(double R, double phi, double limit, int n) {
 TEST(PlaneIntersection, KnownPolylineCrossings) {
   // A zig-zag in the x-z plane crossing z = 0.5 on three segments and touching it at a vertex.
   Eigen::MatrixX3d p(5, 3);
-  p << 0, 0, 0,  //
-      1, 0, 1,   //
-      2, 0, 0,   //
+  p << 0, 0, 0,   //
+      1, 0, 1,    //
+      2, 0, 0,    //
       3, 0, 0.5,  // on the plane
       4, 0, 1;
   const CuttingPlaneFamily f = parallelPlanes({0, 0, 0}, {0, 0, 2}, {0.5});
@@ -73,9 +72,8 @@ TEST(PlaneIntersection, RadialHalfPlaneKeepsItsSideOnly) {
 TEST(CurveStatistics, RotatedArcsGiveKnownMeanAndSigma) {
   const double R = 0.08, phi = 0.3;
   // Two arcs rotated by +-phi about z, and the unrotated one, so that the mean lies in x = 0.
-  const std::vector<Eigen::MatrixX3d> curves = {rotatedArc(R, phi, 1.2, 2001),
-                                                rotatedArc(R, -phi, 1.2, 2001),
-                                                rotatedArc(R, 0.0, 1.2, 2001)};
+  const std::vector<Eigen::MatrixX3d> curves = {
+      rotatedArc(R, phi, 1.2, 2001), rotatedArc(R, -phi, 1.2, 2001), rotatedArc(R, 0.0, 1.2, 2001)};
   const std::vector<double> angles = evenAngles(-1.0, 1.0, 9);
   const CuttingPlaneFamily f = radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, angles);
   const std::vector<PlaneStatistics> s = curveStatistics(curves, f);
@@ -90,9 +88,8 @@ TEST(CurveStatistics, RotatedArcsGiveKnownMeanAndSigma) {
     };
     const Eigen::Vector3d a = crossing(phi), b = crossing(-phi), c = crossing(0.0);
     const Eigen::Vector3d mean = (a + b + c) / 3.0;
-    const double sigma =
-        std::sqrt(((a - mean).squaredNorm() + (b - mean).squaredNorm() + (c - mean).squaredNorm()) /
-                  3.0);
+    const double sigma = std::sqrt(
+        ((a - mean).squaredNorm() + (b - mean).squaredNorm() + (c - mean).squaredNorm()) / 3.0);
     EXPECT_EQ(s[k].count, 3);
     // Chords of 2000 segments: crossings within R (1 - cos(dt/2)) ~ 3e-8 m of the arc.
     EXPECT_NEAR((s[k].mean - mean).norm(), 0.0, 1e-7) << "plane " << k;
@@ -141,7 +138,8 @@ TEST(CurveStatistics, TrimmedMeanIgnoresAnOutlierCurveThatMovesTheMean) {
   // the trimmed mean is the mean of the five, and so is its sigma.
   const double R = 0.08;
   std::vector<Eigen::MatrixX3d> typical;
-  for (double phi : {-0.06, -0.03, 0.0, 0.02, 0.05}) typical.push_back(rotatedArc(R, phi, 1.0, 401));
+  for (double phi : {-0.06, -0.03, 0.0, 0.02, 0.05})
+    typical.push_back(rotatedArc(R, phi, 1.0, 401));
   std::vector<Eigen::MatrixX3d> curves = typical;
   curves.push_back(rotatedArc(R, 0.7, 1.0, 401));
   const CuttingPlaneFamily f = radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-0.5, 0.0, 0.5});
@@ -211,7 +209,8 @@ TEST(CurveAtlas, MeanProjectedOnTemplateAndCarriedByDeformation) {
     EXPECT_GT(same.upper(i, 0), 0.5 * atlas.sigma(i));
   }
   // Barycentric coordinates are linear: a similarity of the vertices moves everything with it.
-  const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  const Eigen::Matrix3d rot =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
   const Eigen::RowVector3d shift(0.01, -0.02, 0.03);
   const Eigen::MatrixX3d V2 = ((2.0 * sphere.V) * rot.transpose()).rowwise() + shift;
   const CarriedCurve moved = carryCurve(atlas, V2);
@@ -225,7 +224,8 @@ TEST(CurveAtlas, ProjectOntoMovesTheCarriedCurveOntoTheSurface) {
   const TriMesh sphere = test::makeIcosphere(R, 4);
   const std::vector<Eigen::MatrixX3d> curves = {rotatedArc(R, 0.2, 1.0, 801),
                                                 rotatedArc(R, -0.2, 1.0, 801)};
-  const CuttingPlaneFamily f = radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, evenAngles(-0.8, 0.8, 9));
+  const CuttingPlaneFamily f =
+      radialPlanes({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, evenAngles(-0.8, 0.8, 9));
   const CurveAtlas atlas = buildCurveAtlas(sphere, curves, f, 2);
   // A deformation that leaves the curve 10 % outside the sphere (a registration that falls short
   // of the patient): projected, it lies on the sphere again, in the same directions.

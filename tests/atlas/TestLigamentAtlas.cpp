@@ -132,15 +132,16 @@ TEST(LigamentAtlas, ParallelPlanesForCurvesAlongTheTransverseAxis) {
   for (Eigen::Index i = 0; i < m.rows(); ++i) {
     EXPECT_EQ(a.count[i], 3);
     const double x = a.planes.planes[a.plane[i]].point.x();
-    EXPECT_NEAR(m(i, 0), x, 1e-3);   // in its plane, up to the projection onto the mesh
+    EXPECT_NEAR(m(i, 0), x, 1e-3);    // in its plane, up to the projection onto the mesh
     EXPECT_NEAR(m(i, 2), 0.0, 1e-3);  // at polar angle 0
     const double s = std::sqrt(1.0 - x * x / (0.08 * 0.08));
     EXPECT_NEAR(m(i, 1), kAxes.y() * s, 1.5e-3);
     // sigma: RMS distance of the crossings to their mean, sqrt(2/3) times the side offset.
     const Eigen::Vector2d side(kAxes.y() * s * std::cos(0.2), kAxes.z() * s * std::sin(0.2));
     const Eigen::Vector2d centre((kAxes.y() * s + 2.0 * side.x()) / 3.0, 0.0);
-    const double sigma = std::sqrt(
-        (2.0 * (side - centre).squaredNorm() + (Eigen::Vector2d(kAxes.y() * s, 0) - centre).squaredNorm()) / 3.0);
+    const double sigma = std::sqrt((2.0 * (side - centre).squaredNorm() +
+                                    (Eigen::Vector2d(kAxes.y() * s, 0) - centre).squaredNorm()) /
+                                   3.0);
     EXPECT_NEAR(a.sigma(i), sigma, 1e-6);
   }
 }
@@ -158,20 +159,23 @@ TEST(LigamentAtlas, TransferFollowsAScaledRotatedPatient) {
   EXPECT_LT(t.registration.data, 0.1 * t.registration.initialData);
   // Expected: the atlas mean (at x = 0 of the template) scaled and moved like the patient.
   const CarriedCurve onTemplate = carryCurve(atlas.curve, atlas.templ.V);
-  const Eigen::MatrixX3d expected =
-      m.apply(1.1 * (onTemplate.mean.rowwise() + organCentre()));
+  const Eigen::MatrixX3d expected = m.apply(1.1 * (onTemplate.mean.rowwise() + organCentre()));
   const double err = (t.curve.mean - expected).rowwise().norm().maxCoeff();
   const double meanErr = (t.curve.mean - expected).rowwise().norm().mean();
   // Rigid alignment alone leaves the 10 % size difference: the curve off by about 5 mm.
-  const double rigidErr =
-      (carryCurve(atlas.curve, t.rigid.apply(atlas.templ.V)).mean - expected).rowwise().norm().mean();
+  const double rigidErr = (carryCurve(atlas.curve, t.rigid.apply(atlas.templ.V)).mean - expected)
+                              .rowwise()
+                              .norm()
+                              .mean();
   std::printf("transfer error: mean %.2f mm, max %.2f mm (rigid only: mean %.2f mm)\n",
               1e3 * meanErr, 1e3 * err, 1e3 * rigidErr);
   EXPECT_LT(err, 0.5e-3) << "max error " << err << " m";
   EXPECT_GT(rigidErr, 4e-3);
   // The band is carried too, with about the atlas sigma scaled by 1.1.
   for (Eigen::Index i = 0; i < t.curve.sigma.rows(); ++i)
-    EXPECT_NEAR(t.curve.sigma(i), 1.1 * onTemplate.sigma(i), 0.3 * onTemplate.sigma(i));  // Projected onto the patient: on its surface, and no farther from the expected curve.
+    EXPECT_NEAR(t.curve.sigma(i), 1.1 * onTemplate.sigma(i),
+                0.3 * onTemplate.sigma(i));  // Projected onto the patient: on its surface, and no
+                                             // farther from the expected curve.
   const AtlasTransfer p = transferAtlas(atlas, patient, ro, true, true);
   const SurfaceLocator onPatient(patient);
   for (Eigen::Index i = 0; i < p.curve.mean.rows(); ++i) {

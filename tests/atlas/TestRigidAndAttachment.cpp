@@ -52,7 +52,8 @@ TEST(RigidAlignment, MultiStartIcpUndoesAHalfTurn) {
     if (target.V(i, 0) > 0.06) target.V(i, 0) += 0.02 * (target.V(i, 0) - 0.06) / 0.02;
   TriMesh source = target;
   RigidTransform t;
-  t.rotation = Eigen::AngleAxisd(3.14159265358979 + 0.15, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  t.rotation =
+      Eigen::AngleAxisd(3.14159265358979 + 0.15, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   t.translation = Eigen::Vector3d(0.01, -0.02, 0.015);
   target.V = t.apply(target.V);
   double rms = 1.0;

@@ -22,6 +22,8 @@ inline std::string ligamentDataDir() {
 }
 
 // Outward-oriented icosphere of `radius` (m) centred at the origin (the library's generator).
-inline TriMesh makeIcosphere(double radius, int levels) { return makeIcosphereSurface(radius, levels); }
+inline TriMesh makeIcosphere(double radius, int levels) {
+  return makeIcosphereSurface(radius, levels);
+}
 
 }  // namespace bcassim::test

@@ -1,6 +1,4 @@
 // Tests of .eseg reading and attachment-curve extraction on a synthetic labelled grid.
-#include "bcassim/ligaments/AttachmentCurve.h"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +7,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/io/ObjFormat.h"
+#include "bcassim/ligaments/AttachmentCurve.h"
 #include "bcassim/ligaments/EsegLabels.h"
 
 namespace bcassim {

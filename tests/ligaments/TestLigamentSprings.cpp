@@ -1,6 +1,4 @@
 // Tests of ligament spring extrusion (flat and curved surfaces), grouping, and the vessel region.
-#include "bcassim/ligaments/LigamentSprings.h"
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -10,6 +8,7 @@
 #include "bcassim/io/ObjFormat.h"
 #include "bcassim/ligaments/AttachmentCurve.h"
 #include "bcassim/ligaments/EsegLabels.h"
+#include "bcassim/ligaments/LigamentSprings.h"
 #include "bcassim/ligaments/SurfaceMesher.h"
 #include "bcassim/ligaments/VesselRegion.h"
 #include "bcassim/mesh/BarycentricMap.h"
@@ -21,16 +20,15 @@
 namespace bcassim {
 namespace {
 
-double angle(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
+double angle(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
 void expectOnBoundary(const TetMesh& mesh, const LigamentSprings& lig, double tolerance) {
   const BoundarySurface boundary = extractBoundary(mesh);
   const SurfaceLocator surface(toTriMesh(mesh, boundary));
   const auto& springs = lig.springs.springs();
   const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(
-      Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>(mesh.V).data(), 3 * mesh.numNodes());
+      Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>(mesh.V).data(),
+      3 * mesh.numNodes());
   for (size_t s = 0; s < springs.size(); ++s) {
     const Vec3 p = lig.springs.attachment(mesh, x, s);
     EXPECT_LT((p - lig.attachments.row(s).transpose()).norm(), 1e-9) << s;

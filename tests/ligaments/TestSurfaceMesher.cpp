@@ -1,6 +1,4 @@
 // Tests of SurfaceMesher: repair of a broken synthetic sphere, and meshing of a real CT liver.
-#include "bcassim/ligaments/SurfaceMesher.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +8,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/io/ObjFormat.h"
+#include "bcassim/ligaments/SurfaceMesher.h"
 #include "bcassim/mesh/MeshQuality.h"
 #include "bcassim/mesh/MeshValidation.h"
 #include "ligaments/LigamentTestData.h"
@@ -106,7 +105,8 @@ TEST(SurfaceMesher, BatchReportOnAllLivers) {
   const std::string data = test::ligamentDataDir();
   if (!out || data.empty()) GTEST_SKIP() << "set BCASSIM_MESH_ALL=<report.md> to run the batch";
   SurfaceMeshingOptions options;
-  if (const char* target = std::getenv("BCASSIM_MESH_TARGET")) options.targetNodes = std::atoi(target);
+  if (const char* target = std::getenv("BCASSIM_MESH_TARGET"))
+    options.targetNodes = std::atoi(target);
   const auto outcomes = meshAllLivers(data, options);
   std::ofstream md(out);
   md << "| file | ok | in V/F | nodes | tets | min dihedral | vol ratio | s | notes |\n"

@@ -40,9 +40,10 @@ TEST(BeamMaterials, NonlinearModelsAgreeAndLinearIsFarOff) {
   const double E = 1.542e6, nu = 0.49;
   const auto lame = LameParameters::fromYoungPoisson(E, nu);
   auto mesh = std::make_shared<const TetMesh>(makeBoxMesh(Vec3(0.15, 0.03, 0.03), 36, 8, 8));
-  const Eigen::VectorXd corotational = bentBeamDisplacement(mesh, makeMaterial("corotational", E, nu));
-  const double stvk = relativeDifference(bentBeamDisplacement(mesh, makeMaterial("stvk", E, nu)),
-                                         corotational);
+  const Eigen::VectorXd corotational =
+      bentBeamDisplacement(mesh, makeMaterial("corotational", E, nu));
+  const double stvk =
+      relativeDifference(bentBeamDisplacement(mesh, makeMaterial("stvk", E, nu)), corotational);
   const double neoHookean = relativeDifference(
       bentBeamDisplacement(mesh, NeoHookeanMaterial{lame.lambda, 0.5174e6}), corotational);
   const double mooneyRivlin = relativeDifference(
@@ -54,9 +55,10 @@ TEST(BeamMaterials, NonlinearModelsAgreeAndLinearIsFarOff) {
   EXPECT_LT(neoHookean, 0.05);
   EXPECT_LT(mooneyRivlin, 0.05);
   EXPECT_GT(linear, 0.50);
-  std::printf("relative to corotational: StVK %.1f %%, Neo-Hookean %.1f %%, Mooney-Rivlin %.1f %%, "
-              "linear %.1f %%\n",
-              100 * stvk, 100 * neoHookean, 100 * mooneyRivlin, 100 * linear);
+  std::printf(
+      "relative to corotational: StVK %.1f %%, Neo-Hookean %.1f %%, Mooney-Rivlin %.1f %%, "
+      "linear %.1f %%\n",
+      100 * stvk, 100 * neoHookean, 100 * mooneyRivlin, 100 * linear);
 }
 
 }  // namespace

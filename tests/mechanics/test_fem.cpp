@@ -217,10 +217,12 @@ TEST(CubicSprings, ZeroForceAndZeroTangentInCompression) {
   // Eq. 2.26 in tension, and g = d(potential)/d(dl), g' by central differences.
   const double dl = 0.02, h = 1e-6;
   EXPECT_DOUBLE_EQ(CubicSpringSet::magnitude(k, dl), 4 * dl * dl * dl + 7 * dl * dl + 20 * dl);
-  EXPECT_NEAR((CubicSpringSet::potential(k, dl + h) - CubicSpringSet::potential(k, dl - h)) / (2 * h),
-              CubicSpringSet::magnitude(k, dl), 1e-9);
-  EXPECT_NEAR((CubicSpringSet::magnitude(k, dl + h) - CubicSpringSet::magnitude(k, dl - h)) / (2 * h),
-              CubicSpringSet::magnitudeDerivative(k, dl), 1e-7);
+  EXPECT_NEAR(
+      (CubicSpringSet::potential(k, dl + h) - CubicSpringSet::potential(k, dl - h)) / (2 * h),
+      CubicSpringSet::magnitude(k, dl), 1e-9);
+  EXPECT_NEAR(
+      (CubicSpringSet::magnitude(k, dl + h) - CubicSpringSet::magnitude(k, dl - h)) / (2 * h),
+      CubicSpringSet::magnitudeDerivative(k, dl), 1e-7);
 }
 
 TEST(CubicSprings, CutGroupExertsNoForceAfterCutTime) {

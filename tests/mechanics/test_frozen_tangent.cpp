@@ -20,8 +20,8 @@ namespace {
 // sine load at mid-length, mass damping; `stiffnessDamping` s of Rayleigh stiffness damping.
 MechanicalModel cylinder(double stiffnessDamping) {
   auto mesh = std::make_shared<const TetMesh>(makeCylinderMesh(0.015, 0.18, 300));
-  MechanicalModel model = makeMechanicalModel(mesh, {makeMaterial("stvk", 8000, 0.45)}, 1000,
-                                              MassKind::Lumped);
+  MechanicalModel model =
+      makeMechanicalModel(mesh, {makeMaterial("stvk", 8000, 0.45)}, 1000, MassKind::Lumped);
   std::vector<int> base, tip, middle;
   for (int i = 0; i < mesh->numNodes(); ++i) {
     if (mesh->V(i, 2) < 1e-9) base.push_back(i);
@@ -92,10 +92,11 @@ TEST(FrozenTangent, SpringsOfTheStepReplaceTheTangentsExactly) {
   MechanicalModel model = cylinder(0.01);
   std::vector<CubicSpring> springs;
   for (int tet = 0; tet < model.mesh->numTets(); ++tet) {
-    const Vec3 centre = 0.25 * (model.mesh->V.row(model.mesh->T(tet, 0)) +
-                                model.mesh->V.row(model.mesh->T(tet, 1)) +
-                                model.mesh->V.row(model.mesh->T(tet, 2)) +
-                                model.mesh->V.row(model.mesh->T(tet, 3))).transpose();
+    const Vec3 centre =
+        0.25 *
+        (model.mesh->V.row(model.mesh->T(tet, 0)) + model.mesh->V.row(model.mesh->T(tet, 1)) +
+         model.mesh->V.row(model.mesh->T(tet, 2)) + model.mesh->V.row(model.mesh->T(tet, 3)))
+            .transpose();
     if (std::abs(centre.z() - 0.12) > 0.01 || centre.y() < 0.008) continue;
     springs.push_back({tet, Vec4::Constant(0.25), centre + Vec3(0, 0.03, 0.01), 0.025,
                        static_cast<int>(springs.size() % 2)});

@@ -51,7 +51,8 @@ TEST(MeanDilatationPatches, PartitionTheTetsIntoCompactPatchesOfOneRegion) {
       for (size_t j = 0; j < tets.size(); ++j) {
         ++seen[tets[j]];
         EXPECT_EQ(mesh.regionOf(tets[j]), mesh.regionOf(tets[0]));
-        for (int a = 0; a < 4; ++a) EXPECT_EQ(p.nodes[i][p.local[i][4 * j + a]], mesh.T(tets[j], a));
+        for (int a = 0; a < 4; ++a)
+          EXPECT_EQ(p.nodes[i][p.local[i][4 * j + a]], mesh.T(tets[j], a));
       }
       EXPECT_TRUE(std::is_sorted(p.nodes[i].begin(), p.nodes[i].end()));
     }
@@ -100,8 +101,8 @@ TEST(MeanDilatation, AffineDeformationGivesThePlainEnergyAndForces) {
 TEST(MeanDilatation, ForcesAreTheEnergyGradientAndStiffnessTheirDerivative) {
   auto mesh = std::make_shared<const TetMesh>(jitteredBox());
   for (const char* law : {"stvk", "neohookean"}) {
-    const MechanicalModel model = makeMechanicalModel(
-        mesh, {makeMaterial(law, 8000, 0.49)}, 1000, MassKind::Lumped, 4);
+    const MechanicalModel model =
+        makeMechanicalModel(mesh, {makeMaterial(law, 8000, 0.49)}, 1000, MassKind::Lumped, 4);
     const Eigen::VectorXd x = randomDeformation(model, 0.002, 11);
     Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
     SparseMatrix K = model.pattern->emptyMatrix();
@@ -169,7 +170,8 @@ TEST(MeanDilatation, NearlyIncompressibleCantileverStopsLocking) {
 TEST(MeanDilatation, RefusesMaterialsWithoutAVolumetricSplit) {
   auto mesh = std::make_shared<const TetMesh>(jitteredBox());
   try {
-    makeMechanicalModel(mesh, {makeMaterial("corotational", 8000, 0.45)}, 1000, MassKind::Lumped, 4);
+    makeMechanicalModel(mesh, {makeMaterial("corotational", 8000, 0.45)}, 1000, MassKind::Lumped,
+                        4);
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),

@@ -1,6 +1,7 @@
 // Sigma points factorise their own matrices at the same time: concurrent CHOLMOD factorisations
 // and solves on different threads must give exactly the sequential results (the BLAS under
-// CHOLMOD must be safe for concurrent calls: Debian's pthread OpenBLAS is, its serial build is not).
+// CHOLMOD must be safe for concurrent calls: Debian's pthread OpenBLAS is, its serial build is
+// not).
 #include <gtest/gtest.h>
 
 #include <thread>
@@ -15,8 +16,8 @@ namespace bcassim {
 namespace {
 
 SparseMatrix implicitEulerMatrix(double youngModulus) {
-  MechanicalModel model = testing::boxModel(Vec3(0.15, 0.03, 0.03), 16, 4, 4,
-                                             makeMaterial("stvk", youngModulus, 0.49));
+  MechanicalModel model =
+      testing::boxModel(Vec3(0.15, 0.03, 0.03), 16, 4, 4, makeMaterial("stvk", youngModulus, 0.49));
   Eigen::VectorXd f;
   SparseMatrix K;
   model.internalForcesAndStiffness(0.0, model.restPositions(), f, K);
@@ -61,8 +62,8 @@ namespace {
 // A refresh computed on another thread changes nothing but the preconditioner: the trajectory
 // equals the one with a factorisation at every step, to the PCG tolerance.
 TEST(FactorizedPcgSolverBackground, TrajectoryEqualsDirectSolves) {
-  MechanicalModel model = testing::boxModel(Vec3(0.15, 0.03, 0.03), 12, 3, 3,
-                                             makeMaterial("stvk", 8000.0, 0.45));
+  MechanicalModel model =
+      testing::boxModel(Vec3(0.15, 0.03, 0.03), 12, 3, 3, makeMaterial("stvk", 8000.0, 0.45));
   model.dirichlet = DirichletConditions(
       {{testing::nodesWhere(*model.mesh, [](const Vec3& p) { return p.x() < 1e-12; })}},
       *model.pattern);

@@ -3,21 +3,16 @@
 #include <fmt/format.h>
 
 #include <Eigen/SVD>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
+#include "bcassim/Stopwatch.h"
 #include "bcassim/assimilation/ObservedSubset.h"
 
 namespace bcassim {
 namespace {
-using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 Eigen::MatrixXd standardNormal(Eigen::Index rows, Eigen::Index cols, std::mt19937_64& rng) {
   std::normal_distribution<double> normal(0.0, 1.0);
   Eigen::MatrixXd out(rows, cols);

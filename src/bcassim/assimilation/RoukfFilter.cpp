@@ -2,20 +2,15 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
+#include "bcassim/Stopwatch.h"
 #include "bcassim/assimilation/CovarianceRepair.h"
 #include "bcassim/assimilation/ObservedSubset.h"
 
 namespace bcassim {
 namespace {
-using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 // S = L C^-T with U = C C^T, so that S S^T = L U^-1 L^T: the square root that samples (eq. 3.10).
 Eigen::MatrixXd sqrtFactor(const Eigen::MatrixXd& L, const Eigen::MatrixXd& U, RepairLog& log) {
   const Eigen::MatrixXd C = choleskyWithRepair(U, log);
@@ -115,9 +110,7 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
   return report;
 }
 
-FilterState RoukfFilter::saveState() const {
-  return {{Eigen::MatrixXd(x_), L_, U_}, ""};
-}
+FilterState RoukfFilter::saveState() const { return {{Eigen::MatrixXd(x_), L_, U_}, ""}; }
 
 void RoukfFilter::restoreState(const FilterState& state) {
   const auto fits = [&](size_t i, Eigen::Index rows, Eigen::Index cols) {

@@ -5,8 +5,8 @@
 #include <stdexcept>
 
 #include "bcassim/Error.h"
-#include "bcassim/assimilation/LargeDenseKernels.h"
 #include "bcassim/assimilation/CanonicalSigmaPoints.h"
+#include "bcassim/assimilation/LargeDenseKernels.h"
 #include "bcassim/assimilation/SimplexSigmaPoints.h"
 #include "bcassim/assimilation/StarSigmaPoints.h"
 

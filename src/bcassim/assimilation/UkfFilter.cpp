@@ -2,23 +2,18 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
+#include "bcassim/Stopwatch.h"
 #include "bcassim/assimilation/CovarianceRepair.h"
 #include "bcassim/assimilation/LargeDenseKernels.h"
 #include "bcassim/assimilation/ObservedSubset.h"
 #include "bcassim/assimilation/StarSigmaPoints.h"
 
 namespace bcassim {
-namespace {
-using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-}  // namespace
+namespace {}  // namespace
 
 UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
                      UkfOptions options)
@@ -27,7 +22,8 @@ UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
   const StochasticState& s = ensemble_.layout();
   const Eigen::Index n = s.size();
   if (!(options_.spread > 0.0) || !std::isfinite(options_.spread))
-    throw InputError(fmt::format("UKF sigma-point spread must be positive, got {}", options_.spread));
+    throw InputError(
+        fmt::format("UKF sigma-point spread must be positive, got {}", options_.spread));
   if (options_.processVariance.size() != 0 && options_.processVariance.size() != n)
     throw InputError(fmt::format("process noise has {} variances, the stochastic state {} entries",
                                  options_.processVariance.size(), n));
@@ -100,9 +96,7 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   return report;
 }
 
-FilterState UkfFilter::saveState() const {
-  return {{Eigen::MatrixXd(x_), P_}, ""};
-}
+FilterState UkfFilter::saveState() const { return {{Eigen::MatrixXd(x_), P_}, ""}; }
 
 void UkfFilter::restoreState(const FilterState& state) {
   const auto fits = [&](size_t i, Eigen::Index rows, Eigen::Index cols) {

@@ -2,9 +2,8 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
-
 #include "bcassim/Error.h"
+#include "bcassim/Stopwatch.h"
 #include "bcassim/atlas/FrechetMeanAtlas.h"
 #include "bcassim/atlas/RigidAlignment.h"
 #include "bcassim/atlas/SurfaceAttachment.h"
@@ -16,7 +15,8 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
   const auto n = static_cast<int>(subjects.size());
   if (n < 3) throw InputError(fmt::format("leave-one-out: need at least 3 subjects, got {}", n));
   if (o.templateSubject < 0 || o.templateSubject >= n) {
-    throw InputError(fmt::format("leave-one-out: template subject {} out of range", o.templateSubject));
+    throw InputError(
+        fmt::format("leave-one-out: template subject {} out of range", o.templateSubject));
   }
   std::vector<int> held = o.heldOut;
   if (held.empty()) {
@@ -67,18 +67,18 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
   }
   if (o.frechetTemplate) {
     // Template shape: Fréchet mean of the surfaces (eq. 4.8), started from the template subject.
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     RegistrationOptions ro = o.atlas.registration;
     ro.lbfgs.maxIterations = o.templateIterations;
     const AtlasResult fm = buildFrechetMeanAtlas(templ, aligned, ro);
     templ = fm.mean;
-    say(fmt::format("Frechet-mean template of {} surfaces: {} iterations, objective {:.4g} -> {:.4g}, "
-                    "{:.1f} s",
-                    n, fm.iterations, fm.initialObjective, fm.objective,
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
+    say(fmt::format(
+        "Frechet-mean template of {} surfaces: {} iterations, objective {:.4g} -> {:.4g}, "
+        "{:.1f} s",
+        n, fm.iterations, fm.initialObjective, fm.objective, secondsSince(t0)));
   }
   for (int i = 0; i < n; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     const TriMesh& s = aligned[i];
     const Eigen::MatrixX3d& c = alignedCurves[i];
     if (i != o.templateSubject || o.frechetTemplate) {
@@ -90,8 +90,7 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     }
     curves[i] = c;
     carried[i] = SurfaceAttachment(TriMesh{deformed[i], templ.F}, c).positions(templ.V);
-    res.registrationSeconds[i] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    res.registrationSeconds[i] = secondsSince(t0);
     say(fmt::format("{:>3}/{} {}: rigid RMS {:.1f} mm, data left {:.1f} %, {:.1f} s", i + 1, n,
                     subjects[i].name, 1e3 * res.alignmentRms[i], 100.0 * res.dataRatio[i],
                     res.registrationSeconds[i]));
@@ -129,9 +128,10 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     om.centre = CurveCentre::Mean;
     const CurveAtlas meanAtlas = ligamentCurveAtlas(templ, others, om);
     f.plainMean = compare(h, predict(h, meanAtlas, deformed[h]), meanAtlas.planes);
-    say(fmt::format("held out {}: {} planes, mean {:.1f} mm, max {:.1f} mm (rigid only: mean {:.1f} mm)",
-                    subjects[h].name, f.distance.planes, 1e3 * f.distance.planeMean,
-                    1e3 * f.distance.planeMax, 1e3 * f.rigidOnly.planeMean));
+    say(fmt::format(
+        "held out {}: {} planes, mean {:.1f} mm, max {:.1f} mm (rigid only: mean {:.1f} mm)",
+        subjects[h].name, f.distance.planes, 1e3 * f.distance.planeMean, 1e3 * f.distance.planeMax,
+        1e3 * f.rigidOnly.planeMean));
     res.folds.push_back(f);
   }
   return res;

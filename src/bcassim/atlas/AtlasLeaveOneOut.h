@@ -11,8 +11,8 @@ namespace bcassim {
 struct LeaveOneOutOptions {
   LigamentAtlasOptions atlas;  // registration, planes, per-plane centre; frechetMean is ignored
                                // (see frechetTemplate)
-  int templateSubject = 0;     // the fixed template, or the start of the Fréchet mean (never held out)
-  std::vector<int> heldOut;    // subjects to hold out; empty: every subject but the template
+  int templateSubject = 0;  // the fixed template, or the start of the Fréchet mean (never held out)
+  std::vector<int> heldOut;  // subjects to hold out; empty: every subject but the template
   // Size normalisation: each subject is scaled about its centre to the template's surface area
   // (areaMatchingScale) before the rigid alignment and the registration; distances to the expert
   // curve are measured back in the subject's own size.
@@ -30,8 +30,8 @@ struct LeaveOneOutOptions {
 
 struct LeaveOneOutFold {
   int subject = -1;
-  int atlasPoints = 0;     // mean-curve points of this fold's atlas
-  CurveDistance distance;  // transferred mean curve vs the expert curve (m)
+  int atlasPoints = 0;      // mean-curve points of this fold's atlas
+  CurveDistance distance;   // transferred mean curve vs the expert curve (m)
   CurveDistance rigidOnly;  // same with the template only aligned rigidly (no LDDMM), for contrast
   CurveDistance median;     // LDDMM, per-plane geometric median instead of options' centre
   CurveDistance plainMean;  // LDDMM, per-plane mean of all crossings (the thesis' centre)

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 
 #include "bcassim/Error.h"
@@ -46,8 +45,8 @@ CurveAtlas buildCurveAtlas(const TriMesh& templ, const std::vector<Eigen::Matrix
     highs.push_back(sp.point + s.sigma * b);
   }
   if (means.empty()) {
-    throw InputError(fmt::format(
-        "curve atlas: no cutting plane is crossed by {} of the {} curves", minCount, curves.size()));
+    throw InputError(fmt::format("curve atlas: no cutting plane is crossed by {} of the {} curves",
+                                 minCount, curves.size()));
   }
   const auto n = static_cast<Eigen::Index>(means.size());
   Eigen::MatrixX3d M(n, 3), L(n, 3), H(n, 3);

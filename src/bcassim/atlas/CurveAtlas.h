@@ -14,10 +14,10 @@ namespace bcassim {
 
 struct CurveAtlas {
   CuttingPlaneFamily planes;
-  std::vector<int> plane;  // plane index of each mean point (planes with enough crossings)
-  std::vector<int> count;  // curves crossing that plane
-  Eigen::VectorXd sigma;   // standard deviation at each mean point (m), on the template
-  SurfaceAttachment mean;  // projected means, in plane order
+  std::vector<int> plane;          // plane index of each mean point (planes with enough crossings)
+  std::vector<int> count;          // curves crossing that plane
+  Eigen::VectorXd sigma;           // standard deviation at each mean point (m), on the template
+  SurfaceAttachment mean;          // projected means, in plane order
   SurfaceAttachment lower, upper;  // mean -/+ sigma along the surface within the plane, projected
 };
 

@@ -9,11 +9,11 @@
 namespace bcassim {
 
 struct CurveDistance {
-  int planes = 0;           // planes crossed by both curves
-  double planeMean = 0.0;   // mean distance between the two crossings of such a plane (m)
-  double planeMax = 0.0;    // largest of them (m)
-  double pointMean = 0.0;   // mean distance of the expert points to the predicted polyline (m)
-  double pointMax = 0.0;    // largest of them (m)
+  int planes = 0;          // planes crossed by both curves
+  double planeMean = 0.0;  // mean distance between the two crossings of such a plane (m)
+  double planeMax = 0.0;   // largest of them (m)
+  double pointMean = 0.0;  // mean distance of the expert points to the predicted polyline (m)
+  double pointMax = 0.0;   // largest of them (m)
 };
 
 // Distance from point p to the polyline (rows in order; one row: that point).

@@ -74,8 +74,8 @@ std::vector<PlaneStatistics> curveStatistics(const std::vector<Eigen::MatrixX3d>
                                              const CuttingPlaneFamily& planes, CurveCentre centre,
                                              double outlierMads) {
   if (centre == CurveCentre::Trimmed && !(outlierMads > 0.0)) {
-    throw InputError(fmt::format("curve statistics: outlier threshold must be positive, got {} MADs",
-                                 outlierMads));
+    throw InputError(fmt::format(
+        "curve statistics: outlier threshold must be positive, got {} MADs", outlierMads));
   }
   std::vector<PlaneStatistics> out;
   out.reserve(planes.planes.size());

@@ -7,7 +7,7 @@
 namespace bcassim {
 
 struct CuttingPlane {
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();   // a point of the plane (m)
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();    // a point of the plane (m)
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit normal
   // Radial half-plane: only points p with (p - point).radial >= 0 belong to it; zero vector: the
   // whole plane.
@@ -17,8 +17,8 @@ struct CuttingPlane {
 
 struct CuttingPlaneFamily {
   enum class Kind { Radial, Parallel } kind = Kind::Radial;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // radial: on the axis; parallel: offset 0
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();   // radial: common line; parallel: normal
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();      // radial: on the axis; parallel: offset 0
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();       // radial: common line; parallel: normal
   Eigen::Vector3d reference = Eigen::Vector3d::UnitY();  // radial: direction of angle 0
   std::vector<CuttingPlane> planes;
 };

@@ -15,7 +15,8 @@
 namespace bcassim {
 namespace {
 
-constexpr Eigen::Index kBlockI = 8;   // rows of a per task: small boxes, so that far tiles are skipped
+constexpr Eigen::Index kBlockI =
+    8;  // rows of a per task: small boxes, so that far tiles are skipped
 constexpr Eigen::Index kTileJ = 16;  // columns of b per tile (a multiple of every vector width)
 // Pairs farther apart than this many squared kernel widths are skipped, tile by tile: each
 // weighs below exp(-50) ~ 2e-22 of a coincident pair, far below rounding of the sum.

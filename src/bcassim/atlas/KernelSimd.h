@@ -93,16 +93,21 @@ inline Isa bestIsa() {
 // Defines NAME(args) dispatching to NAME##Body<W>(args) compiled for SSE (W = 2), AVX2+FMA (4)
 // and AVX-512 (8). BODY must be an always_inline template on int W.
 #if defined(__x86_64__) && defined(__GNUC__)
-#define BCASSIM_SIMD_DISPATCH(NAME, BODY, PARAMS, ARGS)                                     \
-  static void NAME##Sse PARAMS { BODY<2> ARGS; }                                            \
-  __attribute__((target("avx2,fma"))) static void NAME##Avx2 PARAMS { BODY<4> ARGS; }       \
-  __attribute__((target("avx512f"))) static void NAME##Avx512 PARAMS { BODY<8> ARGS; }      \
-  static void NAME PARAMS {                                                                 \
-    switch (::bcassim::simd::bestIsa()) {                                                   \
-      case ::bcassim::simd::Isa::Avx512: NAME##Avx512 ARGS; break;                          \
-      case ::bcassim::simd::Isa::Avx2: NAME##Avx2 ARGS; break;                              \
-      default: NAME##Sse ARGS;                                                              \
-    }                                                                                       \
+#define BCASSIM_SIMD_DISPATCH(NAME, BODY, PARAMS, ARGS)                                \
+  static void NAME##Sse PARAMS { BODY<2> ARGS; }                                       \
+  __attribute__((target("avx2,fma"))) static void NAME##Avx2 PARAMS { BODY<4> ARGS; }  \
+  __attribute__((target("avx512f"))) static void NAME##Avx512 PARAMS { BODY<8> ARGS; } \
+  static void NAME PARAMS {                                                            \
+    switch (::bcassim::simd::bestIsa()) {                                              \
+      case ::bcassim::simd::Isa::Avx512:                                               \
+        NAME##Avx512 ARGS;                                                             \
+        break;                                                                         \
+      case ::bcassim::simd::Isa::Avx2:                                                 \
+        NAME##Avx2 ARGS;                                                               \
+        break;                                                                         \
+      default:                                                                         \
+        NAME##Sse ARGS;                                                                \
+    }                                                                                  \
   }
 #else
 #define BCASSIM_SIMD_DISPATCH(NAME, BODY, PARAMS, ARGS) \

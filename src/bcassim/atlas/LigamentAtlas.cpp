@@ -3,12 +3,11 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
-
-#include <chrono>
 #include <cmath>
 #include <numbers>
 
 #include "bcassim/Error.h"
+#include "bcassim/Stopwatch.h"
 #include "bcassim/atlas/ControlPoints.h"
 #include "bcassim/atlas/FrechetMeanAtlas.h"
 #include "bcassim/atlas/GeodesicShooting.h"
@@ -18,9 +17,6 @@ namespace bcassim {
 namespace {
 Eigen::RowVector3d boxCentre(const Eigen::MatrixX3d& V) {
   return 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff());
-}
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 }  // namespace
 
@@ -58,7 +54,8 @@ CurveAtlas ligamentCurveAtlas(const TriMesh& templ, const std::vector<Eigen::Mat
     }
     const double step = o.planeStepDegrees * std::numbers::pi / 180.0;
     const int half = static_cast<int>(std::floor(0.5 * std::numbers::pi / step + 1e-9));
-    planes = radialPlanes(centre, axis, towards, evenAngles(-half * step, half * step, 2 * half + 1));
+    planes =
+        radialPlanes(centre, axis, towards, evenAngles(-half * step, half * step, 2 * half + 1));
   }
   const auto n = static_cast<double>(carried.size());
   const int minCount = std::max(std::min(2, static_cast<int>(carried.size())),
@@ -79,15 +76,16 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
   }
   for (const AtlasSubject& s : subjects) {
     if (s.surface.F.rows() == 0 || s.curve.rows() < 2) {
-      throw InputError(fmt::format("ligament atlas: subject '{}' needs triangles and a curve of "
-                                   ">= 2 points",
-                                   s.name));
+      throw InputError(
+          fmt::format("ligament atlas: subject '{}' needs triangles and a curve of "
+                      ">= 2 points",
+                      s.name));
     }
   }
   LigamentAtlas atlas;
   // 1. Rigid pre-alignment: the template subject centred on its bounding box, the others
   //    aligned onto it (surface and curve move together).
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   TriMesh initial = subjects[o.templateSubject].surface;
   const Eigen::RowVector3d c0 = boxCentre(initial.V);
   initial.V.rowwise() -= c0;
@@ -103,8 +101,8 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
     shapes[i].V.rowwise() -= ci;
     curves[i].rowwise() -= ci;
     if (o.rigidAlign && i != o.templateSubject) {
-      const RigidTransform t = alignRigidlyMultiStart(shapes[i], initial, {}, 8,
-                                                      &atlas.alignmentRms[i]);
+      const RigidTransform t =
+          alignRigidlyMultiStart(shapes[i], initial, {}, 8, &atlas.alignmentRms[i]);
       shapes[i].V = t.apply(shapes[i].V);
       curves[i] = t.apply(curves[i]);
     }
@@ -112,9 +110,10 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
   say(fmt::format("rigid alignment of {} subjects: {:.1f} s", n, secondsSince(t0)));
 
   // 2. Template and one deformation per subject.
-  const auto t1 = std::chrono::steady_clock::now();
+  const auto t1 = Clock::now();
   RegistrationOptions ro = o.registration;
-  if (ro.controlPoints.rows() == 0) ro.controlPoints = regularGridControlPoints(initial.V, ro.sigmaV);
+  if (ro.controlPoints.rows() == 0)
+    ro.controlPoints = regularGridControlPoints(initial.V, ro.sigmaV);
   const GeodesicShooting shooting(ro.sigmaV, ro.shooting);
   std::vector<Eigen::MatrixX3d> deformed(n);  // template vertices flowed onto subject i
   atlas.data.assign(n, 0.0);
@@ -125,12 +124,13 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
       deformed[i] = shooting.flow(fm.controlPoints, fm.momenta[i], fm.mean.V);
       atlas.data[i] = fm.data[i];
     }
-    say(fmt::format("Frechet mean of {} shapes: {} iterations, objective {:.4g} -> {:.4g}, {:.1f} s",
-                    n, fm.iterations, fm.initialObjective, fm.objective, secondsSince(t1)));
+    say(fmt::format(
+        "Frechet mean of {} shapes: {} iterations, objective {:.4g} -> {:.4g}, {:.1f} s", n,
+        fm.iterations, fm.initialObjective, fm.objective, secondsSince(t1)));
   } else {
     atlas.templ = initial;
     for (int i = 0; i < n; ++i) {
-      const auto ti = std::chrono::steady_clock::now();
+      const auto ti = Clock::now();
       const RegistrationResult r = registerSurface(initial, shapes[i], ro);
       deformed[i] = r.deformedVertices;
       atlas.data[i] = r.data;

@@ -38,12 +38,12 @@ struct LigamentAtlasOptions {
   double planeSpacing = 0.005;  // m
   // A plane yields a mean point when at least this fraction of the curves crosses it.
   double minCrossingFraction = 0.25;
-  CurveCentre centre = CurveCentre::Mean;  // per-plane centre: mean (thesis), median or Trimmed
+  CurveCentre centre = CurveCentre::Mean;    // per-plane centre: mean (thesis), median or Trimmed
   double outlierMads = kDefaultOutlierMads;  // k of the Hampel identifier of CurveCentre::Trimmed
 };
 
 struct LigamentAtlas {
-  TriMesh templ;   // mean shape (m), in the frame of the centred template subject
+  TriMesh templ;  // mean shape (m), in the frame of the centred template subject
   CurveAtlas curve;
   std::vector<std::string> subjects;
   std::vector<Eigen::MatrixX3d> carriedCurves;  // each subject's curve on the template (m)

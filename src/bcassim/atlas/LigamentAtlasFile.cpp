@@ -9,6 +9,8 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/io/CsvTable.h"
+#include "bcassim/io/MeshWriter.h"
+#include "bcassim/io/PointCsvWriter.h"
 #include "bcassim/io/SurfaceReader.h"
 
 namespace bcassim {
@@ -44,9 +46,10 @@ SurfaceAttachment readAttachment(const CsvTable& t, const std::string& file,
     for (Eigen::Index i = 0; i < n; ++i) {
       const double v = t.rows(i, cv);
       if (v < 0 || v >= static_cast<double>(nv) || v != std::floor(v)) {
-        throw InputError(fmt::format("{}:{}: {}_v{} must be a vertex index of the template "
-                                     "(0..{}), got {}",
-                                     file, t.lines[i], prefix, k, nv - 1, v));
+        throw InputError(
+            fmt::format("{}:{}: {}_v{} must be a vertex index of the template "
+                        "(0..{}), got {}",
+                        file, t.lines[i], prefix, k, nv - 1, v));
       }
       c(i, k) = static_cast<int>(v);
       w(i, k) = t.rows(i, cw);
@@ -87,29 +90,21 @@ void writeLigamentAtlas(const std::string& dirName, const LigamentAtlas& a) {
       f << '\n';
     }
   }
-  {
-    std::ofstream f = openOut(dir / "carried_curves.csv");
-    f << "subject,x,y,z\n";
-    for (size_t s = 0; s < a.carriedCurves.size(); ++s)
-      for (Eigen::Index i = 0; i < a.carriedCurves[s].rows(); ++i)
-        f << s << ',' << a.carriedCurves[s](i, 0) << ',' << a.carriedCurves[s](i, 1) << ','
-          << a.carriedCurves[s](i, 2) << '\n';
-  }
+  writePointSetsCsv((dir / "carried_curves.csv").string(), "subject", a.carriedCurves);
   {
     std::ofstream f = openOut(dir / "subjects.csv");
     f << "subject,name,alignment_rms_m,data\n";
     for (size_t s = 0; s < a.subjects.size(); ++s)
-      f << s << ',' << a.subjects[s] << ','
-        << (s < a.alignmentRms.size() ? a.alignmentRms[s] : 0.0) << ','
-        << (s < a.data.size() ? a.data[s] : 0.0) << '\n';
+      f << s << ',' << a.subjects[s] << ',' << (s < a.alignmentRms.size() ? a.alignmentRms[s] : 0.0)
+        << ',' << (s < a.data.size() ? a.data[s] : 0.0) << '\n';
   }
 }
 
 LigamentAtlas readLigamentAtlas(const std::string& dirName) {
   const fs::path dir(dirName);
   if (!fs::is_directory(dir)) {
-    throw InputError(fmt::format("{}: expected an atlas folder (from 'bcassim atlas build')",
-                                 dirName));
+    throw InputError(
+        fmt::format("{}: expected an atlas folder (from 'bcassim atlas build')", dirName));
   }
   LigamentAtlas a;
   const fs::path tp = dir / "template.obj";
@@ -132,14 +127,15 @@ LigamentAtlas readLigamentAtlas(const std::string& dirName) {
                        : parallelPlanes(centre, axis, params);
   const std::string cf = (dir / "curve.csv").string();
   const CsvTable ct = readCsvTable(cf);
-  if (ct.rows.rows() == 0) throw InputError(fmt::format("{}: expected at least one curve point", cf));
+  if (ct.rows.rows() == 0)
+    throw InputError(fmt::format("{}: expected at least one curve point", cf));
   const int cpl = col(ct, cf, "plane"), ccount = col(ct, cf, "count"), csig = col(ct, cf, "sigma");
   a.curve.sigma.resize(ct.rows.rows());
   for (Eigen::Index i = 0; i < ct.rows.rows(); ++i) {
     const double p = ct.rows(i, cpl);
     if (p < 0 || p >= static_cast<double>(params.size())) {
-      throw InputError(fmt::format("{}:{}: plane must be 0..{}, got {}", cf, ct.lines[i],
-                                   params.size() - 1, p));
+      throw InputError(
+          fmt::format("{}:{}: plane must be 0..{}, got {}", cf, ct.lines[i], params.size() - 1, p));
     }
     a.curve.plane.push_back(static_cast<int>(p));
     a.curve.count.push_back(static_cast<int>(ct.rows(i, ccount)));
@@ -163,6 +159,21 @@ LigamentAtlas readLigamentAtlas(const std::string& dirName) {
     }
   }
   return a;
+}
+
+void writeCarriedCurveFiles(const std::string& folder, const TriMesh& surface,
+                            const CarriedCurve& c) {
+  const fs::path dir(folder);
+  writeSurface((dir / "surface.vtp").string(), surface);
+  writeSurface((dir / "surface.obj").string(), surface);
+  writePointsCsv((dir / "mean_curve.csv").string(), c.mean, {{"sigma", c.sigma}});
+  writePointsCsv((dir / "band_lower.csv").string(), c.lower);
+  writePointsCsv((dir / "band_upper.csv").string(), c.upper);
+  FieldSet f;
+  f.pointScalars.push_back({"sigma_m", c.sigma});
+  writePolyline((dir / "mean_curve.vtp").string(), c.mean, f);
+  writePolyline((dir / "band_lower.vtp").string(), c.lower);
+  writePolyline((dir / "band_upper.vtp").string(), c.upper);
 }
 
 }  // namespace bcassim

@@ -14,4 +14,9 @@ void writeLigamentAtlas(const std::string& dir, const LigamentAtlas& atlas);
 // Throws InputError naming the file and what was expected.
 LigamentAtlas readLigamentAtlas(const std::string& dir);
 
+// A curve with its band on a surface, as `atlas build` and `atlas transfer` leave them for
+// ParaView and scripts/plot_atlas.py: surface.vtp/.obj, mean_curve.csv (x,y,z,sigma),
+// band_lower.csv, band_upper.csv (x,y,z) and the three curves as .vtp polylines. Metres.
+void writeCarriedCurveFiles(const std::string& dir, const TriMesh& surface, const CarriedCurve& c);
+
 }  // namespace bcassim

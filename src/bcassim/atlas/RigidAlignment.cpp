@@ -5,10 +5,10 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
-#include <algorithm>
 
 #include "bcassim/Error.h"
 #include "bcassim/mesh/ClosestPoint.h"
@@ -65,7 +65,8 @@ RigidTransform icp(const TriMesh& source, const SurfaceLocator& locator, RigidTr
 RigidTransform start(const TriMesh& source, const TriMesh& target, const Eigen::Matrix3d& R) {
   RigidTransform t;
   t.rotation = R;
-  t.translation = (target.V.colwise().mean().transpose() - R * source.V.colwise().mean().transpose());
+  t.translation =
+      (target.V.colwise().mean().transpose() - R * source.V.colwise().mean().transpose());
   return t;
 }
 }  // namespace

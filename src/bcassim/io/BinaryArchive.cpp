@@ -91,7 +91,8 @@ Eigen::MatrixXd ArchiveReader::matrix() {
   if (!in_ || rows < 0 || cols < 0 || rows * cols > (std::int64_t{1} << 32))
     throw InputError(fmt::format("{}: damaged (expected a matrix)", path_));
   Eigen::MatrixXd m(rows, cols);
-  in_.read(reinterpret_cast<char*>(m.data()), static_cast<std::streamsize>(sizeof(double) * m.size()));
+  in_.read(reinterpret_cast<char*>(m.data()),
+           static_cast<std::streamsize>(sizeof(double) * m.size()));
   if (!in_ || !m.allFinite())
     throw InputError(fmt::format("{}: damaged (expected a {} x {} matrix of finite numbers)", path_,
                                  rows, cols));

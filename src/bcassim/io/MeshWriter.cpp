@@ -130,4 +130,18 @@ void writePolyLines(const std::string& path, const Eigen::MatrixX3d& points,
   writePolyData(path, data);
 }
 
+void writePolyline(const std::string& path, const Eigen::MatrixX3d& points,
+                   const FieldSet& pointFields) {
+  Eigen::MatrixX2i segments(std::max<Eigen::Index>(0, points.rows() - 1), 2);
+  for (Eigen::Index i = 0; i < segments.rows(); ++i)
+    segments.row(i) << static_cast<int>(i), static_cast<int>(i + 1);
+  FieldSet cells;
+  for (const auto& [name, v] : pointFields.pointScalars) {
+    Eigen::VectorXd c(segments.rows());
+    for (Eigen::Index i = 0; i < segments.rows(); ++i) c(i) = 0.5 * (v(i) + v(i + 1));
+    cells.cellScalars.push_back({name, c});
+  }
+  writePolyLines(path, points, segments, cells);
+}
+
 }  // namespace bcassim

@@ -28,4 +28,10 @@ void writePointCloud(const std::string& path, const Eigen::MatrixX3d& points,
 void writePolyLines(const std::string& path, const Eigen::MatrixX3d& points,
                     const Eigen::MatrixX2i& segments, const FieldSet& fields = FieldSet());
 
+// Writes ordered `points` as one polyline (.vtp of line cells joining consecutive points), e.g. a
+// ligament curve; each point scalar of `pointFields` becomes a cell scalar too, the mean of the
+// segment's two ends, so that ParaView can colour the line by it.
+void writePolyline(const std::string& path, const Eigen::MatrixX3d& points,
+                   const FieldSet& pointFields = FieldSet());
+
 }  // namespace bcassim

@@ -51,8 +51,7 @@ std::vector<PvdEntry> readPvdIndex(const std::string& pvdPath) {
   return entries;
 }
 
-PvdSeries PvdSeries::resume(const std::string& directory, const std::string& baseName,
-                            int frames) {
+PvdSeries PvdSeries::resume(const std::string& directory, const std::string& baseName, int frames) {
   PvdSeries series(directory, baseName);
   const std::regex frameNumber(R"re(_(\d{6})\.vt[up]$)re");
   std::smatch f;

@@ -65,8 +65,8 @@ double pathLength(const std::vector<int>& path, const Eigen::MatrixX3d& V) {
 AttachmentCurve extractAttachmentCurve(const TriMesh& surface, const LabelledEdges& edges,
                                        int label, const std::string& source, double maxGap) {
   if (edges.edges.size() != edges.labels.size()) {
-    throw InputError(fmt::format("{}: {} edges but {} labels", source, edges.edges.size(),
-                                 edges.labels.size()));
+    throw InputError(
+        fmt::format("{}: {} edges but {} labels", source, edges.edges.size(), edges.labels.size()));
   }
   const Eigen::MatrixX3d& V = surface.V;
   Graph graph;
@@ -121,9 +121,10 @@ AttachmentCurve extractAttachmentCurve(const TriMesh& surface, const LabelledEdg
     for (size_t p = 1; p < pieces.size(); ++p) {
       if (used[p]) continue;
       const std::vector<int>& q = pieces[p].path;
-      const std::array<std::array<int, 2>, 4> pairs = {
-          {{path.back(), q.front()}, {path.back(), q.back()}, {path.front(), q.back()},
-           {path.front(), q.front()}}};
+      const std::array<std::array<int, 2>, 4> pairs = {{{path.back(), q.front()},
+                                                        {path.back(), q.back()},
+                                                        {path.front(), q.back()},
+                                                        {path.front(), q.front()}}};
       for (int k = 0; k < 4; ++k) {
         const double d = (V.row(pairs[k][0]) - V.row(pairs[k][1])).norm();
         if (d < best) {

@@ -29,9 +29,7 @@ std::vector<std::array<int, 2>> esegEdgeOrder(const TriMesh& surface) {
 
 namespace {
 
-bool isBlank(const std::string& s) {
-  return s.find_first_not_of(" \t\r") == std::string::npos;
-}
+bool isBlank(const std::string& s) { return s.find_first_not_of(" \t\r") == std::string::npos; }
 
 }  // namespace
 
@@ -51,8 +49,8 @@ LabelledEdges readEseg(const std::string& path, const TriMesh& surface) {
       continue;
     }
     if (firstBlankAfterLabels) {
-      throw InputError(fmt::format("{}:{}: blank line between edge labels", path,
-                                   firstBlankAfterLabels));
+      throw InputError(
+          fmt::format("{}:{}: blank line between edge labels", path, firstBlankAfterLabels));
     }
     const size_t begin = line.find_first_not_of(" \t");
     const size_t end = line.find_last_not_of(" \t\r") + 1;
@@ -60,19 +58,20 @@ LabelledEdges readEseg(const std::string& path, const TriMesh& surface) {
     const auto [ptr, ec] = std::from_chars(line.data() + begin, line.data() + end, value);
     if (ec != std::errc() || ptr != line.data() + end) {
       throw InputError(fmt::format("{}:{}: expected an integer edge label, got '{}'", path,
-                                   lineNumber, line.substr(begin, std::min<size_t>(end - begin, 40))));
+                                   lineNumber,
+                                   line.substr(begin, std::min<size_t>(end - begin, 40))));
     }
     if (out.labels.size() == expected) {
-      throw InputError(fmt::format(
-          "{}:{}: expected {} edge labels (one per surface edge), the file has more", path,
-          lineNumber, expected));
+      throw InputError(
+          fmt::format("{}:{}: expected {} edge labels (one per surface edge), the file has more",
+                      path, lineNumber, expected));
     }
     out.labels.push_back(value);
   }
   if (out.labels.size() != expected) {
-    throw InputError(fmt::format(
-        "{}:{}: expected {} edge labels (one per surface edge), the file ends after {}", path,
-        out.labels.size() + 1, expected, out.labels.size()));
+    throw InputError(
+        fmt::format("{}:{}: expected {} edge labels (one per surface edge), the file ends after {}",
+                    path, out.labels.size() + 1, expected, out.labels.size()));
   }
   return out;
 }

@@ -47,7 +47,8 @@ class SurfaceSnapper {
     double sum = 0;
     for (Eigen::Index f = 0; f < surface_.F.rows(); ++f) {
       for (int k = 0; k < 3; ++k) {
-        sum += (surface_.V.row(surface_.F(f, k)) - surface_.V.row(surface_.F(f, (k + 1) % 3))).norm();
+        sum +=
+            (surface_.V.row(surface_.F(f, k)) - surface_.V.row(surface_.F(f, (k + 1) % 3))).norm();
       }
     }
     return sum / (3.0 * surface_.F.rows());
@@ -66,11 +67,11 @@ LigamentSprings buildLigamentSprings(const TetMesh& mesh, const Eigen::MatrixX3d
                                      const LigamentOptions& options) {
   if (mesh.numTets() == 0) throw InputError("ligament: the tet mesh is empty");
   if (curve.rows() < 2) {
-    throw InputError(fmt::format("ligament: the curve has {} points, at least 2 needed",
-                                 curve.rows()));
+    throw InputError(
+        fmt::format("ligament: the curve has {} points, at least 2 needed", curve.rows()));
   }
-  if (!(options.length > 0) || options.numGroups < 1 || options.layers < 1 ||
-      options.layers > 2 || options.spacing < 0 || options.layerOffset < 0) {
+  if (!(options.length > 0) || options.numGroups < 1 || options.layers < 1 || options.layers > 2 ||
+      options.spacing < 0 || options.layerOffset < 0) {
     throw InputError(fmt::format(
         "ligament: bad options (length {} m, groups {}, layers {}, spacing {} m, offset {} m); "
         "expected length > 0, groups >= 1, layers 1 or 2, spacing and offset >= 0",

@@ -12,10 +12,10 @@
 namespace bcassim {
 
 struct LigamentOptions {
-  double length = 0.03;   // extrusion distance = rest length, m (thesis: 3 cm, ligament 1.1-4.9 cm)
-  double spacing = 0;     // arc length between attachments along the curve, m; 0: the mean
-                          // boundary edge length of the mesh
-  int numGroups = 4;      // springs sharing coefficients (the estimated parameters)
+  double length = 0.03;  // extrusion distance = rest length, m (thesis: 3 cm, ligament 1.1-4.9 cm)
+  double spacing = 0;    // arc length between attachments along the curve, m; 0: the mean
+                         // boundary edge length of the mesh
+  int numGroups = 4;     // springs sharing coefficients (the estimated parameters)
   // The thesis extrudes "two layers" of springs. Here they are two rows on the surface, offset by
   // +-layerOffset across the curve (the two sides of the ligament's fold); anchors stay fixed
   // points, so a second layer stacked outward (at 2 x length) would act as the same springs.

@@ -24,13 +24,13 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <unordered_map>
 
 #include "bcassim/Error.h"
+#include "bcassim/Stopwatch.h"
 #include "bcassim/io/ObjFormat.h"
 #include "bcassim/mesh/MeshQuality.h"
 #include "bcassim/mesh/MeshValidation.h"
@@ -215,10 +215,10 @@ TetMesh runMesh3(const Surface& surface, double cellSize, const SurfaceMeshingOp
 
 SurfaceMeshingResult meshSurface(const TriMesh& surface, const SurfaceMeshingOptions& options,
                                  const std::string& source) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   if (options.targetNodes < 10) {
-    throw InputError(fmt::format("{}: target node count {} is too small", source,
-                                 options.targetNodes));
+    throw InputError(
+        fmt::format("{}: target node count {} is too small", source, options.targetNodes));
   }
   SurfaceMeshingResult result;
   SurfaceMeshingReport& report = result.report;
@@ -263,8 +263,7 @@ SurfaceMeshingResult meshSurface(const TriMesh& surface, const SurfaceMeshingOpt
   report.outputTets = static_cast<int>(quality.numTets);
   report.meshVolume = quality.totalVolume;
   report.minDihedralDeg = quality.minDihedralDeg;
-  report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = secondsSince(start);
   return result;
 }
 
@@ -272,8 +271,10 @@ namespace {
 
 std::string describeRepairs(const SurfaceMeshingReport& r) {
   std::vector<std::string> parts;
-  if (r.mergedVertices) parts.push_back(fmt::format("{} duplicate vertices merged", r.mergedVertices));
-  if (r.removedFaces) parts.push_back(fmt::format("{} degenerate/duplicate faces removed", r.removedFaces));
+  if (r.mergedVertices)
+    parts.push_back(fmt::format("{} duplicate vertices merged", r.mergedVertices));
+  if (r.removedFaces)
+    parts.push_back(fmt::format("{} degenerate/duplicate faces removed", r.removedFaces));
   if (r.flippedFaces) parts.push_back(fmt::format("{} faces reoriented", r.flippedFaces));
   if (r.components > 1) parts.push_back(fmt::format("{} components, largest kept", r.components));
   if (r.holesFilled) parts.push_back(fmt::format("{} holes filled", r.holesFilled));
@@ -293,7 +294,8 @@ LiverMeshingOutcome meshOne(const std::filesystem::path& path, const std::string
   try {
     const TriMesh surface = readObj(path.string());
     if (fitWidth && surface.V.rows() > 0) {
-      const double width = (surface.V.colwise().maxCoeff() - surface.V.colwise().minCoeff()).maxCoeff();
+      const double width =
+          (surface.V.colwise().maxCoeff() - surface.V.colwise().minCoeff()).maxCoeff();
       options.scale = 0.20 / width;
     }
     const SurfaceMeshingResult result = meshSurface(surface, options, name);
@@ -312,9 +314,8 @@ LiverMeshingOutcome meshOne(const std::filesystem::path& path, const std::string
     outcome.ok = nodesOk && volumeOk;
     if (!nodesOk) {
       outcome.problem += fmt::format("{}node count {} outside +-{:.0f} % of {}",
-                                     outcome.problem.empty() ? "" : "; ",
-                                     result.report.outputNodes, 100 * options.nodeTolerance,
-                                     options.targetNodes);
+                                     outcome.problem.empty() ? "" : "; ", result.report.outputNodes,
+                                     100 * options.nodeTolerance, options.targetNodes);
     }
   } catch (const std::exception& e) {
     outcome.ok = false;
@@ -342,7 +343,8 @@ std::vector<LiverMeshingOutcome> meshAllLivers(const std::string& dataDir,
     outcomes.push_back(meshOne(file, "livers/" + file.filename().string(), options, false));
   }
   const fs::path sofa = fs::path(dataDir) / "sofa-liver" / "liver-smooth.obj";
-  if (fs::exists(sofa)) outcomes.push_back(meshOne(sofa, "sofa-liver/liver-smooth.obj", options, true));
+  if (fs::exists(sofa))
+    outcomes.push_back(meshOne(sofa, "sofa-liver/liver-smooth.obj", options, true));
   return outcomes;
 }
 

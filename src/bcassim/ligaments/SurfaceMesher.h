@@ -10,13 +10,13 @@
 namespace bcassim {
 
 struct SurfaceMeshingOptions {
-  double scale = 1e-3;        // multiplies input coordinates: 1e-3 turns millimetres into metres
-  int targetNodes = 2150;     // wanted node count (thesis §5.1: 2,150 estimation, ~14,300 truth)
+  double scale = 1e-3;          // multiplies input coordinates: 1e-3 turns millimetres into metres
+  int targetNodes = 2150;       // wanted node count (thesis §5.1: 2,150 estimation, ~14,300 truth)
   double nodeTolerance = 0.15;  // accept a mesh within +-15 % of targetNodes
-  int maxAttempts = 3;        // meshing runs to land within the tolerance; the closest is kept
-  int maxHoleEdges = 200;     // border loops up to this many edges are filled; larger ones throw
-  double facetAngleDeg = 25;  // lower bound of surface triangle angles
-  double radiusEdgeRatio = 3;  // upper bound of tet circumradius / shortest edge
+  int maxAttempts = 3;          // meshing runs to land within the tolerance; the closest is kept
+  int maxHoleEdges = 200;       // border loops up to this many edges are filled; larger ones throw
+  double facetAngleDeg = 25;    // lower bound of surface triangle angles
+  double radiusEdgeRatio = 3;   // upper bound of tet circumradius / shortest edge
   // Sliver exudation raises the minimum dihedral angle but its results vary from run to run
   // (observed: +-2 nodes on a 200-node sphere), so it is off for reproducible meshes.
   // Perturbation (time-bounded) is never used.
@@ -26,25 +26,25 @@ struct SurfaceMeshingOptions {
 // What the repair and meshing did, for logs and the batch report. Lengths in metres.
 struct SurfaceMeshingReport {
   int inputVertices = 0, inputFaces = 0;
-  int mergedVertices = 0;         // duplicate points merged into one
-  int removedFaces = 0;           // degenerate or duplicate faces dropped
-  int flippedFaces = 0;           // faces reversed for a consistent outward orientation
-  int holesFilled = 0;            // border loops closed by triangulate_hole
-  int components = 0;             // connected components after repair (only the largest is kept)
-  int genus = 0;                  // handles of the kept component (0 for a sphere-like liver)
-  int selfIntersections = 0;      // pairs of intersecting faces in the repaired surface
-  double surfaceVolume = 0;       // enclosed by the repaired surface, m^3
-  double cellSize = 0;            // Mesh_3 size criterion of the kept run, m
-  int attempts = 0;               // meshing runs made
+  int mergedVertices = 0;     // duplicate points merged into one
+  int removedFaces = 0;       // degenerate or duplicate faces dropped
+  int flippedFaces = 0;       // faces reversed for a consistent outward orientation
+  int holesFilled = 0;        // border loops closed by triangulate_hole
+  int components = 0;         // connected components after repair (only the largest is kept)
+  int genus = 0;              // handles of the kept component (0 for a sphere-like liver)
+  int selfIntersections = 0;  // pairs of intersecting faces in the repaired surface
+  double surfaceVolume = 0;   // enclosed by the repaired surface, m^3
+  double cellSize = 0;        // Mesh_3 size criterion of the kept run, m
+  int attempts = 0;           // meshing runs made
   int outputNodes = 0, outputTets = 0;
-  double meshVolume = 0;          // sum of tet volumes, m^3
+  double meshVolume = 0;  // sum of tet volumes, m^3
   double minDihedralDeg = 0;
-  double seconds = 0;             // wall time of repair and meshing
+  double seconds = 0;  // wall time of repair and meshing
 };
 
 struct SurfaceMeshingResult {
-  TetMesh mesh;        // positively oriented tets, validated, region all 0
-  TriMesh repaired;    // the repaired, scaled surface that was meshed (outward, metres)
+  TetMesh mesh;      // positively oriented tets, validated, region all 0
+  TriMesh repaired;  // the repaired, scaled surface that was meshed (outward, metres)
   SurfaceMeshingReport report;
 };
 

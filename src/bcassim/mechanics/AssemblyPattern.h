@@ -1,5 +1,6 @@
 // The fixed sparsity pattern of a 3N x 3N stiffness-like matrix on a tet mesh, computed once, with
-// each tet's 12x12 block pre-mapped to value slots so assembly is a plain scatter (no triplet sort).
+// each tet's 12x12 block pre-mapped to value slots so assembly is a plain scatter (no triplet
+// sort).
 #pragma once
 #include <vector>
 
@@ -17,10 +18,11 @@ class AssemblyPattern {
 
   // A matrix with the full (both triangles) pattern and zero values; assemble into copies of it.
   const SparseMatrix& emptyMatrix() const { return empty_; }
-  // 144 value slots of tet t's block, row-major over local dofs: slot[(3a+i)*12 + 3b+j] is the index
-  // into valuePtr() of entry (3*T(t,a)+i, 3*T(t,b)+j).
+  // 144 value slots of tet t's block, row-major over local dofs: slot[(3a+i)*12 + 3b+j] is the
+  // index into valuePtr() of entry (3*T(t,a)+i, 3*T(t,b)+j).
   const int* tetSlots(Eigen::Index t) const { return slots_.data() + 144 * t; }
-  // (3m)^2 value slots of clique c's block (m nodes, in the order given), row-major over local dofs.
+  // (3m)^2 value slots of clique c's block (m nodes, in the order given), row-major over local
+  // dofs.
   const int* cliqueSlots(int c) const { return cliqueSlots_.data() + cliqueStart_[c]; }
   // Value slot of the diagonal entry of dof d.
   int diagonalSlot(Eigen::Index d) const { return diagonal_[d]; }

@@ -16,11 +16,11 @@ struct CubicSpringCoefficients {
 };
 
 struct CubicSpring {
-  int tet = 0;          // tet holding the attachment point
-  Vec4 weights;         // barycentric weights of the attachment point in that tet
-  Vec3 anchor;          // fixed far end, m
+  int tet = 0;            // tet holding the attachment point
+  Vec4 weights;           // barycentric weights of the attachment point in that tet
+  Vec3 anchor;            // fixed far end, m
   double restLength = 0;  // m
-  int group = 0;        // index of the shared coefficients
+  int group = 0;          // index of the shared coefficients
 };
 
 class CubicSpringSet {

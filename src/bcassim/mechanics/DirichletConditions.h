@@ -12,8 +12,8 @@ namespace bcassim {
 
 struct DirichletRegion {
   std::vector<int> nodes;
-  Vec3 displacement = Vec3::Zero();  // m; zero means fixed
-  TimeProfile profile;               // multiplies displacement
+  Vec3 displacement = Vec3::Zero();                     // m; zero means fixed
+  TimeProfile profile;                                  // multiplies displacement
   std::array<bool, 3> components = {true, true, true};  // which of x, y, z are prescribed
 };
 

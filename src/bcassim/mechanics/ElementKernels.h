@@ -25,11 +25,13 @@ void elementForcesAndStiffness(const M& material, const Mat3& F, const ShapeGrad
     C = material.tangent(F);
   }
   f.noalias() = V * P * G.transpose();
-  // CG(:, 3b+j) = sum_l C(:, j+3l) gradN_b[l], then K(3a+i, 3b+j) = sum_k gradN_a[k] CG(i+3k, 3b+j).
+  // CG(:, 3b+j) = sum_l C(:, j+3l) gradN_b[l], then K(3a+i, 3b+j) = sum_k gradN_a[k] CG(i+3k,
+  // 3b+j).
   Eigen::Matrix<double, 9, 12> CG;
   for (int b = 0; b < 4; ++b)
     for (int j = 0; j < 3; ++j)
-      CG.col(3 * b + j) = V * (C.col(j) * G(b, 0) + C.col(j + 3) * G(b, 1) + C.col(j + 6) * G(b, 2));
+      CG.col(3 * b + j) =
+          V * (C.col(j) * G(b, 0) + C.col(j + 3) * G(b, 1) + C.col(j + 6) * G(b, 2));
   for (int a = 0; a < 4; ++a)
     K.middleRows<3>(3 * a) =
         G(a, 0) * CG.topRows<3>() + G(a, 1) * CG.middleRows<3>(3) + G(a, 2) * CG.bottomRows<3>();
@@ -64,9 +66,8 @@ inline void elementForcesAndStiffness(const LinearMaterial& m, const Mat3& F,
 
 // StVK: with g_a = F gradN_a, B = F F^T,
 // K_ab = V [(gNa^T S gNb) I + lambda g_a g_b^T + mu (gNa.gNb) B + mu g_b g_a^T].
-inline void elementForcesAndStiffness(const StvkMaterial& m, const Mat3& F,
-                                      const ShapeGradients& G, double V, ElementForces& f,
-                                      Mat12& K) {
+inline void elementForcesAndStiffness(const StvkMaterial& m, const Mat3& F, const ShapeGradients& G,
+                                      double V, ElementForces& f, Mat12& K) {
   Mat3 E = 0.5 * F.transpose() * F;
   E.diagonal().array() -= 0.5;
   Mat3 S = 2.0 * m.mu * E;
@@ -131,7 +132,8 @@ inline Mat3 crossMatrix(const Vec3& v) {
 // Corotational with its exact tangent: P = 2 mu (F - R) + lambda (tr S - 3) R, and with
 // p_a = R gNa, M = (tr(S) I - S)^-1, c = lambda (tr S - 3) - 2 mu:
 // K_ab = V [2 mu (gNa.gNb) I + lambda p_a p_b^T - c R [gNa]x M [gNb]x R^T]
-// (the last term is the variation of R: R^T dR = [w]x with (tr(S) I - S) w = axial(2 skew(R^T dF))).
+// (the last term is the variation of R: R^T dR = [w]x with (tr(S) I - S) w = axial(2 skew(R^T
+// dF))).
 inline void elementForcesAndStiffness(const CorotationalMaterial& m, const Mat3& F,
                                       const ShapeGradients& G, double V, ElementForces& f,
                                       Mat12& K) {

@@ -1,8 +1,8 @@
 #include "bcassim/mechanics/FrozenTangent.h"
 
 #include <algorithm>
-#include <chrono>
 
+#include "bcassim/Stopwatch.h"
 #include "bcassim/mechanics/ImplicitEulerSystem.h"
 
 namespace bcassim {
@@ -29,8 +29,8 @@ void forEachSpringEntry(const MechanicalModel& model, bool eliminated, Visit&& v
 
 Eigen::VectorXd springGather(const MechanicalModel& model, const Eigen::VectorXd& v,
                              bool eliminated) {
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(
-                                                      model.springs.springs().size()));
+  Eigen::VectorXd out =
+      Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(model.springs.springs().size()));
   forEachSpringEntry(model, eliminated,
                      [&](Eigen::Index j, int d, double w) { out(j) += w * v(d); });
   return out;
@@ -45,7 +45,7 @@ void springScatterAdd(const MechanicalModel& model, const Eigen::VectorXd& q, bo
 std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel& model,
                                                           const MechanicalState& state, double dt,
                                                           const CholeskyFactor* analysis) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   auto t = std::make_shared<FrozenTangent>();
   t->dt_ = dt;
   t->stiffnessScale_ = implicitEulerStiffnessScale(model, dt);
@@ -55,7 +55,7 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel&
   stiffnessToImplicitEulerMatrix(model, dt, t->A_);
   SparseMatrix eliminated = t->A_;
   model.dirichlet.eliminateMatrix(eliminated);
-  const auto assembled = std::chrono::steady_clock::now();
+  const auto assembled = Clock::now();
   if (analysis != nullptr && analysis->isAnalyzed() && analysis->matchesPattern(eliminated)) {
     t->factor_ = analysis->cloneAnalysis();
   } else {
@@ -63,7 +63,7 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel&
     t->factor_->analyzePattern(eliminated);
   }
   t->factor_->factorize(eliminated);
-  const auto factorized = std::chrono::steady_clock::now();
+  const auto factorized = Clock::now();
 
   const auto& springs = model.springs.springs();
   if (!springs.empty() && static_cast<int>(springs.size()) <= kMaxCorrectedSprings) {
@@ -75,14 +75,14 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel&
     t->G_.resize(r, r);  // U^T Z from the few rows of Z that U touches
     for (Eigen::Index j = 0; j < r; ++j) t->G_.col(j) = springGather(model, t->Z_.col(j), true);
     for (size_t s = 0; s < springs.size(); ++s)
-      t->springBlocks_.push_back(model.springs.attachmentStiffness(*model.mesh, state.x, state.t, s));
+      t->springBlocks_.push_back(
+          model.springs.attachmentStiffness(*model.mesh, state.x, state.t, s));
   }
-  const auto end = std::chrono::steady_clock::now();
-  auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
-  t->assemblySeconds_ = seconds(start, assembled);
-  t->factorizationSeconds_ = seconds(assembled, factorized);
-  t->springSeconds_ = seconds(factorized, end);
-  t->buildSeconds_ = seconds(start, end);
+  const auto end = Clock::now();
+  t->assemblySeconds_ = secondsBetween(start, assembled);
+  t->factorizationSeconds_ = secondsBetween(assembled, factorized);
+  t->springSeconds_ = secondsBetween(factorized, end);
+  t->buildSeconds_ = secondsBetween(start, end);
   return t;
 }
 

@@ -50,8 +50,8 @@ class FrozenTangent {
   // y = A^-1 b - Z (I + h D G)^-1 h D U^T A^-1 b, Z = A^-1 U, G = U^T Z.
   bool correctsSprings() const { return !springBlocks_.empty(); }
   const std::vector<Mat3>& springBlocks() const { return springBlocks_; }  // H_s, N/m
-  const Eigen::MatrixXd& springSolutions() const { return Z_; }             // Z, n x 3S
-  const Eigen::MatrixXd& springGram() const { return G_; }                  // G, 3S x 3S
+  const Eigen::MatrixXd& springSolutions() const { return Z_; }            // Z, n x 3S
+  const Eigen::MatrixXd& springGram() const { return G_; }                 // G, 3S x 3S
 
  private:
   double dt_ = 0, stiffnessScale_ = 0, buildSeconds_ = 0;

@@ -1,19 +1,15 @@
 #include "bcassim/mechanics/ImplicitEuler.h"
 
-#include <chrono>
-#include <Eigen/LU>
 #include <fmt/format.h>
 
+#include <Eigen/LU>
+
 #include "bcassim/Error.h"
+#include "bcassim/Stopwatch.h"
 #include "bcassim/mechanics/ImplicitEulerSystem.h"
 
 namespace bcassim {
 namespace {
-using Clock = std::chrono::steady_clock;
-double seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
-
 // blockdiag(D_0, D_1, ...) v for D stacked as (3k x 3) blocks.
 Eigen::VectorXd blockDiagonalTimes(const Eigen::MatrixXd& D, const Eigen::VectorXd& v) {
   Eigen::VectorXd out(v.size());
@@ -55,7 +51,7 @@ void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
     knownVelocityChange(model, rest_, s, h, tNext, knownDv_);
     bc.eliminate(A_, rhs_, knownDv_);
   }
-  timings_.assembly += seconds(t0, Clock::now());
+  timings_.assembly += secondsBetween(t0, Clock::now());
 
   t0 = Clock::now();
   solver_->setMatrix(A_);
@@ -70,7 +66,7 @@ void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
   }
   timings_.lastSolve = solver_->solve(rhs_, dv_);
   ++timings_.linearSolves;
-  timings_.solve += seconds(t0, Clock::now());
+  timings_.solve += secondsBetween(t0, Clock::now());
 
   const Eigen::VectorXd x0 = s.x, v0 = s.v;
   s.v = v0 + dv_;
@@ -95,14 +91,14 @@ void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
     }
     const double residual = rhs_.norm();
     const double reference = std::max(h * fext_.norm(), Mv1.norm());
-    timings_.assembly += seconds(t0, Clock::now());
+    timings_.assembly += secondsBetween(t0, Clock::now());
     if (residual <= options_.newtonTolerance * std::max(reference, 1e-300)) break;
     t0 = Clock::now();
     solver_->setMatrix(A_);
     dv_.setZero();
     timings_.lastSolve = solver_->solve(rhs_, dv_);
     ++timings_.linearSolves;
-    timings_.solve += seconds(t0, Clock::now());
+    timings_.solve += secondsBetween(t0, Clock::now());
     s.v += dv_;
     s.x = x0 + h * s.v;
   }
@@ -110,14 +106,15 @@ void ImplicitEuler::step(const MechanicalModel& model, MechanicalState& s) {
   checkFinite(model, s);
   previousStepDv_.swap(stepDv_);
   stepDv_ = s.v - v0;
-  timings_.total = seconds(start, Clock::now());
+  timings_.total = secondsBetween(start, Clock::now());
 }
 
 void ImplicitEuler::checkFinite(const MechanicalModel& model, const MechanicalState& s) const {
   if (!s.x.allFinite() || !s.v.allFinite())
-    throw NumericalError(fmt::format("implicit Euler: non-finite state at t = {:.6g} s (time step "
-                                     "too large, or an element inverted: {} tets)",
-                                     s.t, model.elasticity.lastInvertedCount()));
+    throw NumericalError(
+        fmt::format("implicit Euler: non-finite state at t = {:.6g} s (time step "
+                    "too large, or an element inverted: {} tets)",
+                    s.t, model.elasticity.lastInvertedCount()));
 }
 
 void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalState& s,
@@ -126,9 +123,10 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
   timings_ = {};
   const double h = options_.dt;
   if (tangent.dt() != h)
-    throw InputError(fmt::format("implicit Euler: the shared tangent was built for dt = {:.6g} s, "
-                                 "this integrator steps {:.6g} s",
-                                 tangent.dt(), h));
+    throw InputError(
+        fmt::format("implicit Euler: the shared tangent was built for dt = {:.6g} s, "
+                    "this integrator steps {:.6g} s",
+                    tangent.dt(), h));
   const double tNext = s.t + h;
   const DirichletConditions& bc = model.dirichlet;
 
@@ -154,13 +152,15 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
     knownVelocityChange(model, rest_, s, h, tNext, knownDv_);
     if (correct && knownDv_.any()) {  // the springs' share of the known columns
       Eigen::VectorXd known = Eigen::VectorXd::Zero(rhs_.size()), moved = known;
-      for (Eigen::Index k = 0; k < knownDv_.size(); ++k) known(bc.constrainedDofs()[k]) = knownDv_(k);
-      springScatterAdd(model, blockDiagonalTimes(D, springGather(model, known, false)), false, moved);
+      for (Eigen::Index k = 0; k < knownDv_.size(); ++k)
+        known(bc.constrainedDofs()[k]) = knownDv_(k);
+      springScatterAdd(model, blockDiagonalTimes(D, springGather(model, known, false)), false,
+                       moved);
       rhs_ -= c * moved;
     }
     bc.eliminateRightHandSide(tangent.systemMatrix(), rhs_, knownDv_);
   }
-  timings_.assembly += seconds(t0, Clock::now());
+  timings_.assembly += secondsBetween(t0, Clock::now());
 
   t0 = Clock::now();
   tangent.factor().solve(rhs_, dv_, factorWork_);
@@ -176,13 +176,13 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
   }
   ++timings_.linearSolves;
   timings_.lastSolve = {};
-  timings_.solve += seconds(t0, Clock::now());
+  timings_.solve += secondsBetween(t0, Clock::now());
 
   s.v += dv_;
   s.x += h * s.v;
   s.t = tNext;
   checkFinite(model, s);
-  timings_.total = seconds(start, Clock::now());
+  timings_.total = secondsBetween(start, Clock::now());
 }
 
 }  // namespace bcassim

@@ -11,8 +11,8 @@
 namespace bcassim {
 
 struct ImplicitEulerOptions {
-  double dt = 0.01;          // s
-  int newtonIterations = 0;  // extra Newton iterations after the eq. 2.16 step (0 = thesis)
+  double dt = 0.01;                // s
+  int newtonIterations = 0;        // extra Newton iterations after the eq. 2.16 step (0 = thesis)
   double newtonTolerance = 1e-10;  // relative residual norm that stops the extra iterations
   // Initial guess of an iterative solver: the linear extrapolation 2 dv_n - dv_(n-1) of the last
   // two steps' velocity changes (else the last one). For one trajectory; an integrator that

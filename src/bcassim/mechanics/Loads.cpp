@@ -29,7 +29,6 @@ Vec3 ControlPointSet::displacementAt(double t) const {
   return (1 - w) * displacements_.row(i - 1).transpose() + w * displacements_.row(i).transpose();
 }
 
-
 double ControlPointSet::energy(const TetMesh& mesh, const Eigen::VectorXd& x, double t) const {
   const Vec3 d = displacementAt(t);
   double W = 0;
@@ -45,23 +44,22 @@ void ControlPointSet::addInternalForces(const TetMesh& mesh, const Eigen::Vector
   const Vec3 d = displacementAt(t);
   for (size_t i = 0; i < points_.size(); ++i) {
     const MappedPoint& p = points_[i];
-    const Vec3 force =
-        stiffness_ * (interpolate(p, mesh, x) - rest_.row(i).transpose() - d);
+    const Vec3 force = stiffness_ * (interpolate(p, mesh, x) - rest_.row(i).transpose() - d);
     for (int a = 0; a < 4; ++a) f.segment<3>(3 * mesh.T(p.tet, a)) += p.weights(a) * force;
   }
 }
 
-void ControlPointSet::addForcesAndStiffness(const TetMesh& mesh, const Eigen::VectorXd& x,
-                                            double t, const AssemblyPattern& pattern,
-                                            double scale, Eigen::VectorXd& f,
-                                            SparseMatrix& K) const {
+void ControlPointSet::addForcesAndStiffness(const TetMesh& mesh, const Eigen::VectorXd& x, double t,
+                                            const AssemblyPattern& pattern, double scale,
+                                            Eigen::VectorXd& f, SparseMatrix& K) const {
   addInternalForces(mesh, x, t, f);
   for (const MappedPoint& p : points_) {
     Mat12 block = Mat12::Zero();
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b)
-        block.block<3, 3>(3 * a, 3 * b).diagonal().setConstant(scale * stiffness_ * p.weights(a) *
-                                                               p.weights(b));
+        block.block<3, 3>(3 * a, 3 * b)
+            .diagonal()
+            .setConstant(scale * stiffness_ * p.weights(a) * p.weights(b));
     scatterTetBlock(pattern, p.tet, block, K);
   }
 }

@@ -47,10 +47,10 @@ class ControlPointSet {
 
  private:
   std::vector<MappedPoint> points_;
-  Eigen::MatrixX3d rest_;          // #points by 3, m
-  std::vector<double> times_;      // s, increasing
+  Eigen::MatrixX3d rest_;           // #points by 3, m
+  std::vector<double> times_;       // s, increasing
   Eigen::MatrixX3d displacements_;  // #times by 3, m
-  double stiffness_;               // N/m
+  double stiffness_;                // N/m
 };
 
 }  // namespace bcassim

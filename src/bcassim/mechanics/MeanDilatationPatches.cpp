@@ -1,10 +1,10 @@
 #include "bcassim/mechanics/MeanDilatationPatches.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <map>
-
-#include <fmt/format.h>
 
 #include "bcassim/Error.h"
 

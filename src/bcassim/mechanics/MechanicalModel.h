@@ -33,7 +33,7 @@ struct MechanicalModel {
   std::vector<NodalLoad> loads;
   std::vector<ControlPointSet> controls;
   DirichletConditions dirichlet;
-  Vec3 gravity = Vec3::Zero();  // m/s^2
+  Vec3 gravity = Vec3::Zero();     // m/s^2
   double rayleighMass = 0.0;       // zeta_M, 1/s (eq. 2.15)
   double rayleighStiffness = 0.0;  // zeta_K, s
 

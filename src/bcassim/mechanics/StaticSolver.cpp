@@ -38,8 +38,7 @@ StaticReport StaticSolver::solve(const MechanicalModel& model, double t, Eigen::
   const DirichletConditions& bc = model.dirichlet;
   Eigen::VectorXd fextFull, fext, fint, g, dx(x.size()), trial;
   model.externalForces(t, fextFull);
-  const Eigen::VectorXd targetFull =
-      bc.empty() ? Eigen::VectorXd() : bc.targetPositions(rest, t);
+  const Eigen::VectorXd targetFull = bc.empty() ? Eigen::VectorXd() : bc.targetPositions(rest, t);
   const Eigen::VectorXd start = x;
 
   for (int stepIndex = 1; stepIndex <= options_.loadSteps; ++stepIndex) {
@@ -93,9 +92,9 @@ StaticReport StaticSolver::solve(const MechanicalModel& model, double t, Eigen::
   g = fint - fext;
   bc.zeroConstrained(g);
   report.residualNorm = g.norm();
-  report.converged = report.residualNorm <=
-                     std::max(options_.relativeTolerance * std::max(fext.norm(), fint.norm()),
-                              1e-12);
+  report.converged =
+      report.residualNorm <=
+      std::max(options_.relativeTolerance * std::max(fext.norm(), fint.norm()), 1e-12);
   return report;
 }
 

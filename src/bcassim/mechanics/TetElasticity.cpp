@@ -43,12 +43,15 @@ struct VolumetricSplit<NeoHookeanMaterial> {  // theta = ln J
   static void addHessian(const Mat3& F, const ShapeGradients& G, double c, Mat12& K) {
     const Eigen::Matrix<double, 3, 4> q = F.inverse().transpose() * G.transpose();
     for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b) K.block<3, 3>(3 * a, 3 * b) -= c * q.col(b) * q.col(a).transpose();
+      for (int b = 0; b < 4; ++b)
+        K.block<3, 3>(3 * a, 3 * b) -= c * q.col(b) * q.col(a).transpose();
   }
 };
 
 template <class M>
-constexpr bool hasVolumetricSplit = requires { VolumetricSplit<M>::theta(Mat3()); };
+constexpr bool hasVolumetricSplit = requires {
+  VolumetricSplit<M>::theta(Mat3());
+};
 
 }  // namespace
 
@@ -62,11 +65,12 @@ TetElasticity::TetElasticity(const TetMesh& mesh, std::vector<Material> regionMa
   tetsOfRegion_.resize(materials_.size());
   for (Eigen::Index t = 0; t < nt; ++t) {
     Mat3 Dm;
-    for (int k = 0; k < 3; ++k) Dm.col(k) = (mesh.V.row(T_(t, k + 1)) - mesh.V.row(T_(t, 0))).transpose();
+    for (int k = 0; k < 3; ++k)
+      Dm.col(k) = (mesh.V.row(T_(t, k + 1)) - mesh.V.row(T_(t, 0))).transpose();
     const double det = Dm.determinant();
     if (!(det > 0))
-      throw InputError(fmt::format("elasticity: tet {} has non-positive rest volume {:.3g} m^3", t,
-                                   det / 6.0));
+      throw InputError(
+          fmt::format("elasticity: tet {} has non-positive rest volume {:.3g} m^3", t, det / 6.0));
     volume_[t] = det / 6.0;
     const Mat3 DmInv = Dm.inverse();
     // grad N_{1..3} are the rows of Dm^-1; grad N_0 = -(sum of the others).
@@ -74,9 +78,10 @@ TetElasticity::TetElasticity(const TetMesh& mesh, std::vector<Material> regionMa
     gradN_[t].row(0) = -DmInv.colwise().sum();
     const int r = materials_.size() == 1 ? 0 : mesh.regionOf(t);
     if (r < 0 || r >= static_cast<int>(materials_.size()))
-      throw InputError(fmt::format("elasticity: tet {} is in region {} but {} region materials are "
-                                   "defined",
-                                   t, r, materials_.size()));
+      throw InputError(
+          fmt::format("elasticity: tet {} is in region {} but {} region materials are "
+                      "defined",
+                      t, r, materials_.size()));
     tetsOfRegion_[r].push_back(static_cast<int>(t));
   }
   if (meanDilatationPatchTets != 1) {
@@ -84,9 +89,10 @@ TetElasticity::TetElasticity(const TetMesh& mesh, std::vector<Material> regionMa
       std::visit(
           [](const auto& law) {
             if constexpr (!hasVolumetricSplit<std::decay_t<decltype(law)>>)
-              throw InputError(fmt::format("material '{}' has no volumetric split for mean "
-                                           "dilatation; expected stvk or neohookean",
-                                           law.name()));
+              throw InputError(
+                  fmt::format("material '{}' has no volumetric split for mean "
+                              "dilatation; expected stvk or neohookean",
+                              law.name()));
           },
           m);
     patches_ = std::make_shared<const MeanDilatationPatches>(
@@ -203,7 +209,8 @@ double TetElasticity::patchEnergy(const Eigen::VectorXd& x) const {
 
 // Per patch P with thetabar = sum_t V_t theta_t / V_P and g_t = V_t dtheta_t/dx:
 // f = sum_t f_dev,t + lambda thetabar sum_t g_t,
-// K = sum_t [K_dev,t + lambda thetabar V_t d2theta_t/dx2] + (lambda / V_P) (sum_t g_t)(sum_t g_t)^T.
+// K = sum_t [K_dev,t + lambda thetabar V_t d2theta_t/dx2] + (lambda / V_P) (sum_t g_t)(sum_t
+// g_t)^T.
 void TetElasticity::addPatchForcesAndStiffness(const Eigen::VectorXd& x,
                                                const AssemblyPattern* pattern, double scale,
                                                Eigen::VectorXd& f, SparseMatrix* K) const {

@@ -242,12 +242,12 @@ TetMesh makeCylinderMesh(double radius, double length, int targetNodes) {
 TriMesh makeIcosphereSurface(double radius, int levels) {
   const double t = (1 + std::sqrt(5.0)) / 2;
   Eigen::MatrixX3d V(12, 3);
-  V << -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1,
-      t, 0, 1, -t, 0, -1, -t, 0, 1;
+  V << -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1, t,
+      0, 1, -t, 0, -1, -t, 0, 1;
   Eigen::MatrixX3i F(20, 3);
   F << 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7,
-      1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9,
-      8, 1;
+      1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8,
+      1;
   for (int i = 0; i < V.rows(); ++i) V.row(i).normalize();
   for (int level = 0; level < levels; ++level) {
     std::map<std::pair<int, int>, int> mid;
@@ -276,6 +276,5 @@ TriMesh makeIcosphereSurface(double radius, int levels) {
   V *= radius;
   return {V, F};
 }
-
 
 }  // namespace bcassim

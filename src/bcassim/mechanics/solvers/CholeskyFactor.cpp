@@ -1,16 +1,15 @@
 #include "bcassim/mechanics/solvers/CholeskyFactor.h"
 
+#include <cholmod.h>
 #include <dlfcn.h>
 #include <omp.h>
-
-#include <cholmod.h>
 
 #include <atomic>
 #include <mutex>
 #include <new>
-#include <vector>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "bcassim/Error.h"
 

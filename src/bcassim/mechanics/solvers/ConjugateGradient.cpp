@@ -34,7 +34,8 @@ bool hasNodeBlockColumns(const SparseMatrix& A) {
   const int* inner = A.innerIndexPtr();
   for (Eigen::Index j = 0; j < A.cols(); j += 3) {
     const int length = outer[j + 1] - outer[j];
-    if (outer[j + 2] - outer[j + 1] != length || outer[j + 3] - outer[j + 2] != length) return false;
+    if (outer[j + 2] - outer[j + 1] != length || outer[j + 3] - outer[j + 2] != length)
+      return false;
     const auto bytes = static_cast<std::size_t>(length) * sizeof(int);
     if (std::memcmp(inner + outer[j], inner + outer[j + 1], bytes) != 0 ||
         std::memcmp(inner + outer[j], inner + outer[j + 2], bytes) != 0)

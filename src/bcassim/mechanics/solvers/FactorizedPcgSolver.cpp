@@ -47,8 +47,7 @@ void FactorizedPcgSolver::setMatrix(const SparseMatrix& A) {
 }
 
 void FactorizedPcgSolver::adoptFinishedRefresh() {
-  if (!pending_.valid() ||
-      pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+  if (!pending_.valid() || pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
     return;
   factor_ = pending_.get();
   ++factorizations_;
@@ -70,16 +69,18 @@ void FactorizedPcgSolver::shareFactor(std::shared_ptr<CholeskyFactor> factor) {
 SolveStatus FactorizedPcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (A_ == nullptr) throw std::logic_error("FactorizedPcgSolver::solve before setMatrix");
   adoptFinishedRefresh();
-  SolveStatus first = preconditionedCg(*A_, b, x, CholeskyPreconditioner(*factor_, factorWork_, policy_.singlePrecision),
-                                       policy_.relTol, policy_.maxIterations, cgWork_);
+  SolveStatus first = preconditionedCg(
+      *A_, b, x, CholeskyPreconditioner(*factor_, factorWork_, policy_.singlePrecision),
+      policy_.relTol, policy_.maxIterations, cgWork_);
   if (first.converged) return first;
 
   // The stored factorisation no longer preconditions A well: factorise A itself. Its direct
   // solution is exact up to rounding, so PCG from there only confirms (or refines) it.
   refactorize();
   factor_->solve(b, x, factorWork_);
-  SolveStatus second = preconditionedCg(*A_, b, x, CholeskyPreconditioner(*factor_, factorWork_, policy_.singlePrecision),
-                                        policy_.relTol, policy_.maxIterations, cgWork_);
+  SolveStatus second = preconditionedCg(
+      *A_, b, x, CholeskyPreconditioner(*factor_, factorWork_, policy_.singlePrecision),
+      policy_.relTol, policy_.maxIterations, cgWork_);
   second.iterations += first.iterations;
   second.refactorized = true;
   return second;

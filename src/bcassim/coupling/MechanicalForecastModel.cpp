@@ -1,0 +1,224 @@
+#include "bcassim/coupling/MechanicalForecastModel.h"
+
+#include <stdexcept>
+
+#include "bcassim/Error.h"
+#include "bcassim/Stopwatch.h"
+#include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
+#include "bcassim/mechanics/solvers/LinearSolverFactory.h"
+
+namespace bcassim {
+namespace {
+
+// One integrator steps every sigma point of its worker in turn: extrapolating the initial guess
+// across different states would not predict the next one.
+ImplicitEulerOptions withoutExtrapolation(ImplicitEulerOptions options) {
+  options.extrapolateGuess = false;
+  return options;
+}
+
+}  // namespace
+
+MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
+                                                 ImplicitEulerOptions integrator,
+                                                 std::vector<MappedPoint> observed,
+                                                 std::vector<ModelParameterTarget> parameters,
+                                                 const MechanicalState& initial,
+                                                 ForecastModelOptions options, int worker,
+                                                 std::shared_ptr<SharedFactorization> shared)
+    : model_(model),
+      integrator_(model_, makeLinearSolver(options.solver, options.refresh),
+                  withoutExtrapolation(integrator)),
+      observed_(std::move(observed)),
+      parameters_(std::move(parameters)),
+      reference_(initial),
+      options_(options),
+      worker_(worker),
+      shared_(options.shareFactorization || options.meanTangent ? std::move(shared) : nullptr) {
+  if (options_.meanTangent) {
+    if (!shared_)
+      throw std::invalid_argument(
+          "MechanicalForecastModel: meanTangent needs a SharedFactorization");
+    if (worker_ == 0) buildMeanTangent();
+  }
+}
+
+ForecastStats& ForecastStats::operator+=(const ForecastStats& o) {
+  assemblySeconds += o.assemblySeconds;
+  solveSeconds += o.solveSeconds;
+  tangentSeconds += o.tangentSeconds;
+  tangentWaitSeconds += o.tangentWaitSeconds;
+  forecasts += o.forecasts;
+  tangentFailures += o.tangentFailures;
+  linearIterations += o.linearIterations;
+  factorizations += o.factorizations;
+  return *this;
+}
+
+ForecastStats MechanicalForecastModel::takeStats() {
+  ForecastStats out = stats_;
+  stats_ = {};
+  return out;
+}
+
+void MechanicalForecastModel::buildMeanTangent() {
+  const CholeskyFactor* analysis = shared_->tangent ? &shared_->tangent->factor() : nullptr;
+  shared_->stepsSinceTangent = 0;
+  try {
+    adoptTangent(FrozenTangent::build(model_, reference_, integrator_.options().dt, analysis));
+  } catch (const NumericalError&) {
+    if (!shared_->tangent) throw;  // nothing to fall back on
+    ++stats_.tangentFailures;
+  }
+}
+
+void MechanicalForecastModel::adoptTangent(std::shared_ptr<const FrozenTangent> tangent) {
+  shared_->tangent = std::move(tangent);
+  stats_.tangentSeconds += shared_->tangent->buildSeconds();
+  ++stats_.factorizations;
+}
+
+Eigen::Index MechanicalForecastModel::stateSize() const {
+  const Eigen::Index n = 3 * model_.mesh->numNodes();
+  return (options_.layout.positions ? n : 0) + (options_.layout.velocities ? n : 0);
+}
+
+Eigen::VectorXd MechanicalForecastModel::packState(const MechanicalState& s) const {
+  Eigen::VectorXd out(stateSize());
+  Eigen::Index at = 0;
+  if (options_.layout.positions) {
+    out.segment(at, s.x.size()) = s.x;
+    at += s.x.size();
+  }
+  if (options_.layout.velocities) out.segment(at, s.v.size()) = s.v;
+  return out;
+}
+
+void MechanicalForecastModel::unpackState(const Eigen::VectorXd& state, MechanicalState& s) const {
+  Eigen::Index at = 0;
+  if (options_.layout.positions) {
+    s.x = state.segment(at, s.x.size());
+    at += s.x.size();
+  }
+  if (options_.layout.velocities) s.v = state.segment(at, s.v.size());
+}
+
+void MechanicalForecastModel::setParameters(const Eigen::VectorXd& params) {
+  for (size_t i = 0; i < parameters_.size(); ++i) applyParameter(parameters_[i], params(i), model_);
+}
+
+void MechanicalForecastModel::observe(const MechanicalState& s, Eigen::VectorXd& predicted) const {
+  predicted.resize(observationSize());
+  for (size_t i = 0; i < observed_.size(); ++i)
+    predicted.segment<3>(3 * i) = interpolate(observed_[i], *model_.mesh, s.x);
+}
+
+void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
+                                       Eigen::VectorXd& newState, Eigen::VectorXd& predicted) {
+  work_ = reference_;
+  unpackState(state, work_);
+  setParameters(params);
+  ++stats_.forecasts;
+  if (options_.meanTangent) {
+    integrator_.stepWithTangent(model_, work_, *shared_->tangent);
+    const StepTimings& t = integrator_.lastTimings();
+    stats_.assemblySeconds += t.assembly;
+    stats_.solveSeconds += t.solve;
+    newState = packState(work_);
+    observe(work_, predicted);
+    return;
+  }
+  // Thesis Alg. 4/5: worker 0 refreshes the factorisation when its policy says so; the others
+  // precondition their PCG with the one it published (SharedFactorization).
+  auto* reuse = dynamic_cast<FactorizedPcgSolver*>(&integrator_.linearSolver());
+  if (shared_ && reuse && worker_ != 0 && shared_->factor) reuse->shareFactor(shared_->factor);
+  const int factorizationsBefore = reuse ? reuse->factorizations() : 0;
+  integrator_.step(model_, work_);
+  {
+    const StepTimings& t = integrator_.lastTimings();
+    stats_.assemblySeconds += t.assembly;
+    stats_.solveSeconds += t.solve;
+    stats_.linearIterations += t.lastSolve.iterations;
+    if (reuse) stats_.factorizations += reuse->factorizations() - factorizationsBefore;
+  }
+  if (shared_ && reuse && worker_ == 0) {
+    shared_->next = reuse->factor();
+    if (shared_->withinStep) shared_->factor = shared_->next;
+  }
+  newState = packState(work_);
+  observe(work_, predicted);
+}
+
+void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) {
+  if (shared_ && worker_ == 0) shared_->factor = shared_->next;
+  setParameters(params);
+  meanParams_ = params;
+  if (options_.layout.positions && options_.layout.velocities) {
+    unpackState(state, reference_);
+    reference_.t += integrator_.options().dt;
+    refreshMeanTangent();
+    return;
+  }
+  // Without the full mechanical state in the filter, the mean trajectory is continued by one more
+  // step with the analysed parameters, then corrected by whatever part the filter does carry.
+  if (options_.meanTangent)
+    integrator_.stepWithTangent(model_, reference_, *shared_->tangent);
+  else
+    integrator_.step(model_, reference_);
+  unpackState(state, reference_);
+  refreshMeanTangent();
+}
+
+void MechanicalForecastModel::refreshMeanTangent() {
+  if (!options_.meanTangent || worker_ != 0) return;
+  // A background build launched at the previous endStep replaces the tangent now, whatever the
+  // thread timing (waiting for it if need be): the schedule, and the result, are the same on
+  // any machine. The tangent in use is thus 1 to N steps old (N = tangentRefreshEvery): older
+  // elastic tangents can make the step unstable (docs/liver.md).
+  if (pendingTangent_.valid()) {
+    const auto waitStart = Clock::now();
+    pendingTangent_.wait();
+    stats_.tangentWaitSeconds += secondsSince(waitStart);
+    try {
+      adoptTangent(pendingTangent_.get());
+    } catch (const NumericalError&) {
+      ++stats_.tangentFailures;
+    }
+  }
+  if (++shared_->stepsSinceTangent < options_.tangentRefreshEvery) return;
+  if (!options_.tangentInBackground) {
+    buildMeanTangent();
+    return;
+  }
+  shared_->stepsSinceTangent = 0;
+  // The build's own copy of the model (read by its thread): copied once, then only the
+  // estimated parameters change.
+  if (!tangentModel_) tangentModel_ = model_;
+  for (size_t i = 0; i < parameters_.size(); ++i)
+    applyParameter(parameters_[i], meanParams_(static_cast<Eigen::Index>(i)), *tangentModel_);
+  tangentState_ = reference_;
+  pendingTangent_ = std::async(std::launch::async, [this, analysis = shared_->tangent] {
+    return FrozenTangent::build(*tangentModel_, tangentState_, integrator_.options().dt,
+                                &analysis->factor());
+  });
+}
+
+void MechanicalForecastModel::restoreReference(const MechanicalState& reference,
+                                               const Eigen::VectorXd& params) {
+  if (pendingTangent_.valid()) pendingTangent_.wait();
+  pendingTangent_ = {};
+  reference_ = reference;
+  setParameters(params);
+  meanParams_ = params;
+  if (options_.meanTangent && worker_ == 0) buildMeanTangent();
+}
+
+Eigen::MatrixX3d MechanicalForecastModel::positionsOf(
+    const std::vector<MappedPoint>& points) const {
+  Eigen::MatrixX3d out(points.size(), 3);
+  for (size_t i = 0; i < points.size(); ++i)
+    out.row(i) = interpolate(points[i], *model_.mesh, reference_.x).transpose();
+  return out;
+}
+
+}  // namespace bcassim

@@ -1,0 +1,126 @@
+// The one place where the FEM meets the filter: implements ForecastModel (simulate one step from a
+// given state and parameters; predict marker positions) over a MechanicalModel and implicit Euler.
+#pragma once
+#include <future>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "bcassim/assimilation/ForecastModel.h"
+#include "bcassim/mechanics/FrozenTangent.h"
+#include "bcassim/mechanics/ImplicitEuler.h"
+#include "bcassim/mechanics/solvers/CholeskyFactor.h"
+#include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
+#include "bcassim/mesh/BarycentricMap.h"
+#include "bcassim/scene/ModelParameter.h"
+
+namespace bcassim {
+
+struct ForecastStateLayout {
+  bool positions = true;   // carry node positions (3N) in the stochastic state
+  bool velocities = true;  // carry node velocities (3N) after the positions
+};
+
+// Where worker 0's factorisation is published for the other workers (thesis Alg. 4/5). Worker 0
+// leaves its factor in `next` after each forecast; at endStep it becomes `factor`, which the other
+// workers precondition with during the following step. All sigma points of a step can thus run
+// at once and still reuse one factorisation, deterministically. With `withinStep` (needs
+// FilterOptions::firstSigmaPointAlone) the others use worker 0's factor of the same step.
+struct SharedFactorization {
+  std::shared_ptr<CholeskyFactor> factor;
+  std::shared_ptr<CholeskyFactor> next;
+  bool withinStep = false;
+  // With ForecastModelOptions::meanTangent: the tangent every worker steps with, rebuilt by worker
+  // 0 at the analysed mean in endStep().
+  std::shared_ptr<const FrozenTangent> tangent;
+  int stepsSinceTangent = 0;
+};
+
+// What one worker's forecasts cost since the last takeStats(): CPU seconds in each part.
+struct ForecastStats {
+  double assemblySeconds = 0, solveSeconds = 0, tangentSeconds = 0;
+  // Wall time worker 0 waited at endStep() for a background tangent to finish.
+  double tangentWaitSeconds = 0;
+  int forecasts = 0, linearIterations = 0, factorizations = 0;
+  // Mean tangents that were not positive definite (the previous one was kept: any tangent gives
+  // a consistent step, see ImplicitEuler::stepWithTangent).
+  int tangentFailures = 0;
+  ForecastStats& operator+=(const ForecastStats& o);
+};
+
+struct ForecastModelOptions {
+  ForecastStateLayout layout;
+  std::string solver = "factorized-pcg";  // any makeLinearSolver name
+  RefreshPolicy refresh;                  // factorized-pcg policy
+  // Share worker 0's factorisation with the other workers (see SharedFactorization).
+  bool shareFactorization = true;
+  // Step every forecast with the tangent of the analysed mean (ImplicitEuler::stepWithTangent),
+  // rebuilt every tangentRefreshEvery steps; needs a shared SharedFactorization.
+  bool meanTangent = false;
+  int tangentRefreshEvery = 1;
+  // Build the mean's tangent on a thread of its own while the next step runs; it replaces the
+  // tangent in use at the end of that step, so the forecasts step with a tangent 1 to N steps
+  // old (N = tangentRefreshEvery), deterministically.
+  bool tangentInBackground = false;
+};
+
+class MechanicalForecastModel final : public ForecastModel {
+ public:
+  // `model` is copied (each worker owns its mechanics); `observed` are the marker points;
+  // `parameters` say what each estimated scalar sets; `initial` is the reference state at t0.
+  MechanicalForecastModel(const MechanicalModel& model, ImplicitEulerOptions integrator,
+                          std::vector<MappedPoint> observed,
+                          std::vector<ModelParameterTarget> parameters,
+                          const MechanicalState& initial, ForecastModelOptions options, int worker,
+                          std::shared_ptr<SharedFactorization> shared);
+
+  Eigen::Index stateSize() const override;
+  Eigen::Index observationSize() const override {
+    return 3 * static_cast<Eigen::Index>(observed_.size());
+  }
+  void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
+                Eigen::VectorXd& newState, Eigen::VectorXd& predicted) override;
+  void endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) override;
+
+  // The stochastic physical part of a mechanical state, per the layout (for the initial mean).
+  Eigen::VectorXd packState(const MechanicalState& s) const;
+  // Reference (analysed) mechanical state: the mean the next step starts from.
+  const MechanicalState& reference() const { return reference_; }
+  const MechanicalModel& model() const { return model_; }
+  // Predicted positions of any mapped points in the reference state (validation points, tumours).
+  Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
+  // Timings of this worker's last forecast (assembly / solve), for benchmarks.
+  const StepTimings& lastTimings() const { return integrator_.lastTimings(); }
+  // Resuming from a checkpoint: the reference state and the analysed (physical) parameters the
+  // checkpointed step ended with. Worker 0 rebuilds the mean tangent there, synchronously (an
+  // uninterrupted run would step with one built a step or two earlier, in the background).
+  void restoreReference(const MechanicalState& reference, const Eigen::VectorXd& params);
+  // Costs accumulated since the last call, which resets them.
+  ForecastStats takeStats();
+
+ private:
+  void unpackState(const Eigen::VectorXd& state, MechanicalState& s) const;
+  void setParameters(const Eigen::VectorXd& params);
+  void observe(const MechanicalState& s, Eigen::VectorXd& predicted) const;
+  void buildMeanTangent();
+  void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);
+  void refreshMeanTangent();
+
+  MechanicalModel model_;
+  ImplicitEuler integrator_;
+  std::vector<MappedPoint> observed_;
+  std::vector<ModelParameterTarget> parameters_;
+  MechanicalState reference_, work_;
+  ForecastModelOptions options_;
+  int worker_;
+  std::shared_ptr<SharedFactorization> shared_;
+  ForecastStats stats_;
+  // Worker 0 with tangentInBackground: the model and mean the pending tangent is built from.
+  // Declared last so that the pending build finishes before they are destroyed.
+  std::optional<MechanicalModel> tangentModel_;
+  Eigen::VectorXd meanParams_;  // the analysed parameters of the last endStep
+  MechanicalState tangentState_;
+  std::future<std::shared_ptr<const FrozenTangent>> pendingTangent_;
+};
+
+}  // namespace bcassim

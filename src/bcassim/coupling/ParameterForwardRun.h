@@ -1,0 +1,38 @@
+// A forward run of a scene with chosen values of its estimated parameters, one step at a time:
+// the "initial" curve of an assimilation and the run `validate` compares with the truth.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "bcassim/scene/Scene.h"
+
+namespace bcassim {
+
+class ParameterForwardRun {
+ public:
+  // The scene's model with values(i) written into parameters[i].target, from the rest state.
+  ParameterForwardRun(const Scene& scene, const std::vector<EstimatedParameter>& parameters,
+                      const Eigen::VectorXd& values);
+
+  // One implicit-Euler step; throws NumericalError if it diverges.
+  void step();
+  // Positions of mapped points in the current state, m.
+  Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
+  double time() const { return state_.t; }
+  // For checkpoints: the state after steps() steps, and continuing from one.
+  const MechanicalState& state() const { return state_; }
+  int steps() const { return steps_; }
+  void restore(const MechanicalState& state, int steps) {
+    state_ = state;
+    steps_ = steps;
+  }
+
+ private:
+  MechanicalModel model_;
+  MechanicalState state_;
+  std::unique_ptr<ImplicitEuler> integrator_;
+  double dt_;
+  int steps_ = 0;
+};
+
+}  // namespace bcassim

@@ -1,0 +1,188 @@
+#include "bcassim/experiments/liver/LiverPipeline.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "bcassim/Error.h"
+#include "bcassim/io/CsvTable.h"
+#include "bcassim/io/CsvTracks.h"
+#include "bcassim/run/ValidationErrors.h"
+#include "bcassim/scene/ModelParameter.h"
+#include "bcassim/scene/SceneLoader.h"
+
+namespace bcassim {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct StepSeries {
+  std::vector<double> mean, max;  // mm, per step 1 .. steps
+};
+
+ErrorOverTime summarise(const StepSeries& s) {
+  ErrorOverTime e;
+  e.steps = static_cast<int>(s.mean.size());
+  if (e.steps == 0) return e;
+  auto meanStd = [](const std::vector<double>& v, double& m, double& sd) {
+    m = 0;
+    for (double x : v) m += x / static_cast<double>(v.size());
+    double var = 0;
+    for (double x : v) var += (x - m) * (x - m) / static_cast<double>(v.size());
+    sd = std::sqrt(var);
+  };
+  meanStd(s.mean, e.meanMm, e.meanStdMm);
+  meanStd(s.max, e.maxMm, e.maxStdMm);
+  for (double x : s.max) e.peakMm = std::max(e.peakMm, x);
+  return e;
+}
+
+// Per-step error of a forward run's validation tracks against the truth's (same time grid).
+StepSeries trackErrors(const fs::path& model, const fs::path& truth) {
+  const MarkerTracks a = readMarkerTracks(model.string());
+  const MarkerTracks b = readMarkerTracks(truth.string());
+  if (a.frames.size() != b.frames.size() || a.numMarkers != b.numMarkers)
+    throw InputError(fmt::format("{}: {} frames of {} points, but the truth {} has {} of {}",
+                                 model.string(), a.frames.size(), a.numMarkers, truth.string(),
+                                 b.frames.size(), b.numMarkers));
+  StepSeries s;
+  for (size_t k = 1; k < a.frames.size(); ++k) {  // frame 0 is the rest state
+    const StepError e = stepError(a.frames[k], b.frames[k]);
+    s.mean.push_back(1e3 * e.mean);
+    s.max.push_back(1e3 * e.max);
+  }
+  return s;
+}
+
+// Mean of a 95 % radius column of hidden_points.csv over the tumours at a step, mm.
+double meanRadiusAt(const CsvTable& t, int step, const std::string& column) {
+  const int cs = t.column("step"), cr = t.column(column);
+  double sum = 0;
+  int n = 0;
+  for (Eigen::Index r = 0; r < t.rows.rows(); ++r)
+    if (static_cast<int>(t.rows(r, cs)) == step) sum += t.rows(r, cr), ++n;
+  return n ? 1e3 * sum / n : 0.0;
+}
+
+// Fraction of (tumour, step >= 1) whose predicted position lies within its total 95 % radius of
+// the truth; -1 without truth.
+double tumourCoverage(const CsvTable& t, const fs::path& truthPath) {
+  if (!fs::exists(truthPath)) return -1;
+  const MarkerTracks truth = readMarkerTracks(truthPath.string());
+  const int cs = t.column("step"), cp = t.column("point"), cx = t.column("x_m"),
+            cr = t.column("radius95_total_m");
+  int inside = 0, n = 0;
+  for (Eigen::Index r = 0; r < t.rows.rows(); ++r) {
+    const auto step = static_cast<size_t>(t.rows(r, cs));
+    const auto point = static_cast<Eigen::Index>(t.rows(r, cp));
+    if (step < 1 || step >= truth.frames.size() || point >= truth.frames[step].rows()) continue;
+    const Vec3 predicted = t.rows.block<1, 3>(r, cx).transpose();
+    const Vec3 actual = truth.frames[step].row(point).transpose();
+    if (!actual.allFinite()) continue;
+    ++n;
+    if ((predicted - actual).norm() <= t.rows(r, cr)) ++inside;
+  }
+  return n ? static_cast<double>(inside) / n : -1;
+}
+
+}  // namespace
+
+LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::string& outDir,
+                             const LiverCallbacks& cb, bool resume) {
+  const fs::path dir(outDir);
+  // Forward runs that do not depend on the estimates continue from their checkpoints.
+  auto resumable = [&](const char* run) {
+    return resume && fs::exists(dir / run / "checkpoint.bin");
+  };
+  auto stage = [&](const std::string& s) {
+    if (cb.stage) cb.stage(s);
+  };
+  LiverReport report;
+  stage("prepare");
+  report.scenario = prepareLiverScenario(options, outDir);
+
+  stage("truth");
+  const Scene truth = loadScene((dir / "truth.yaml").string());
+  report.truth = runSimulation(truth, (dir / "truth").string(), cb.simulation, resumable("truth"));
+
+  stage("estimate");
+  const Scene estimate = loadScene((dir / "estimate.yaml").string());
+  report.assimilation = runAssimilation(estimate, (dir / "estimate").string(), cb.assimilation);
+
+  // Validation (thesis §5.1): forward runs from rest of the coarse model with the final
+  // estimates and with the prior, compared with the truth like the baseline.
+  stage("validate");
+  Scene estimated = loadScene((dir / "estimate.yaml").string());
+  for (size_t i = 0; i < report.assimilation.parameters.size(); ++i)
+    applyParameter(estimated.assimilation->parameters[i].target,
+                   report.assimilation.parameters[i].mean, estimated.model);
+  estimated.assimilation.reset();
+  report.estimatedRun = runSimulation(estimated, (dir / "estimated").string(), cb.simulation);
+  Scene prior = loadScene((dir / "estimate.yaml").string());
+  prior.assimilation.reset();
+  prior.output.pvd = false;
+  report.priorRun =
+      runSimulation(prior, (dir / "prior").string(), cb.simulation, resumable("prior"));
+
+  stage("baseline");
+  const Scene baseline = loadScene((dir / "baseline.yaml").string());
+  report.baseline =
+      runSimulation(baseline, (dir / "baseline").string(), cb.simulation, resumable("baseline"));
+
+  const fs::path truthTracks = dir / "truth" / "validation.csv";
+  const StepSeries est = trackErrors(dir / "estimated" / "validation.csv", truthTracks);
+  const StepSeries pri = trackErrors(dir / "prior" / "validation.csv", truthTracks);
+  const StepSeries fixed = trackErrors(dir / "baseline" / "validation.csv", truthTracks);
+  report.estimated = summarise(est);
+  report.prior = summarise(pri);
+  report.fixed = summarise(fixed);
+  {
+    const MarkerTracks t = readMarkerTracks(truthTracks.string());
+    for (const Eigen::MatrixX3d& f : t.frames)
+      report.maxDeformationMm = std::max(report.maxDeformationMm,
+                                         1e3 * (f - t.frames.front()).rowwise().norm().maxCoeff());
+  }
+
+  const fs::path hidden = dir / "estimate" / "hidden_points.csv";
+  if (fs::exists(hidden)) {
+    const CsvTable t = readCsvTable(hidden.string());
+    report.initialTumourRadius95Mm = meanRadiusAt(t, 1, "radius95_m");
+    report.finalTumourRadius95Mm = meanRadiusAt(t, options.steps, "radius95_m");
+    report.finalTumourTotalRadius95Mm = meanRadiusAt(t, options.steps, "radius95_total_m");
+    report.tumourCoverage = tumourCoverage(t, dir / "truth" / "hidden.csv");
+  }
+
+  {
+    std::ofstream out(dir / "errors_over_time.csv");
+    out << "step,time_s,estimated_mean_mm,estimated_max_mm,prior_mean_mm,prior_max_mm,"
+           "fixed_mean_mm,fixed_max_mm\n";
+    const size_t n = std::min({est.mean.size(), pri.mean.size(), fixed.mean.size()});
+    for (size_t k = 0; k < n; ++k)
+      out << fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", k + 1,
+                         (k + 1) * options.dt, est.mean[k], est.max[k], pri.mean[k], pri.max[k],
+                         fixed.mean[k], fixed.max[k]);
+    if (!out) throw InputError((dir / "errors_over_time.csv").string() + ": cannot write file");
+  }
+  {
+    std::ofstream out(dir / "summary.csv");
+    out << "model,mean_error_mm,mean_error_std_mm,max_error_mm,max_error_std_mm,peak_error_mm\n";
+    for (const auto& [name, e] :
+         {std::pair<const char*, const ErrorOverTime*>{"estimated", &report.estimated},
+          {"prior", &report.prior},
+          {"fixed", &report.fixed}})
+      out << fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", name, e->meanMm, e->meanStdMm,
+                         e->maxMm, e->maxStdMm, e->peakMm);
+    out << fmt::format(
+        "# assimilation median step {:.6g} ms, dt {:.6g} s, truth max deformation {:.6g} mm\n",
+        report.assimilation.medianStepMs, options.dt, report.maxDeformationMm);
+    if (report.tumourCoverage >= 0)
+      out << fmt::format(
+          "# tumours: final 95 % radius {:.6g} mm (with model error), coverage {:.6g}\n",
+          report.finalTumourTotalRadius95Mm, report.tumourCoverage);
+  }
+  return report;
+}
+
+}  // namespace bcassim

@@ -1,0 +1,79 @@
+// The thesis' liver experiment (§5.1) set up from one annotated CT surface: a fine ground-truth
+// model (Ogden, dense ligament springs), a coarse estimation model (StVK, K spring groups), and a
+// baseline whose ligament is fixed nodes, written as three scenes sharing markers, validation
+// points, tumours, loads and the vessel region. Metres.
+#pragma once
+#include <string>
+
+#include "bcassim/Types.h"
+#include "bcassim/ligaments/SurfaceMesher.h"
+
+namespace bcassim {
+
+// Stands for the built-in phantom (LiverPhantom.h) where a surface path is expected.
+inline constexpr const char* kLiverPhantomName = "phantom";
+
+struct LiverScenarioOptions {
+  // Closed triangle surface (.obj, ...), in `scale` units, or kLiverPhantomName.
+  std::string surface;
+  std::string eseg;        // edge labels (.eseg); empty: the surface's path with .eseg
+  double scale = 1e-3;     // m per surface unit (the CT livers are in mm)
+  int coarseNodes = 2150;  // estimation mesh (thesis: 2,150)
+  int fineNodes = 14000;   // ground-truth mesh (thesis: ~14,300)
+  int markers = 14;        // observed, on the anterior surface
+  int validationPoints = 12;
+  int tumours = 3;
+  int groups = 10;               // estimated spring groups K (ROUKF: K + 1 sigma points)
+  double ligamentLength = 0.03;  // extrusion = rest length, m
+  // Ligament stiffness of the truth per metre of attachment curve, both layers together (N/m per
+  // m); it varies along the curve between 0.4 and 1.6 times this. The estimation starts from
+  // priorFactor times its mean.
+  double ligamentStiffness = 300;
+  double priorFactor = 0.4;
+  double stiffeningStretch = 0.01;  // m: at this stretch the cubic term equals the linear one
+  // Loads: right lobe pushed down (half sine, period 4 s), left lobe up then down (sine, 3 s).
+  // Peak forces in N; 0: chosen so that the coarse model held by the vessels alone moves each
+  // lobe by lobeDisplacement under it (static), so every liver deforms alike.
+  double rightLobeForce = 0, leftLobeForce = 0;
+  double lobeDisplacement = 0.02;  // m
+  double dt = 0.02;                // s
+  int steps = 400;
+  int observedSteps = 300;  // observations in steps 1 .. observedSteps, then free run
+  double noise = 5e-4;      // m, Gaussian noise on the observed tracks
+  int threads = 2;
+};
+
+// Directions found from the shape and the annotations (the CT frames differ between livers):
+// `lateral` is the normal of the falciform ligament's plane (spanned by the curve's main
+// direction and the outward surface normal along it), towards the larger (right) lobe;
+// `anterior` is that surface normal (where the ligament goes) and `superior` points from the
+// ridge (label 3, the anterior-inferior border) to the ligament, both in the plane.
+struct LiverAnatomy {
+  Vec3 center = Vec3::Zero();
+  Vec3 lateral = Vec3::UnitX(), anterior = Vec3::UnitY(), superior = Vec3::UnitZ();
+  // Centre of the fixed vessel region: the surface point nearest the centre on the visceral side
+  // (the porta hepatis notch).
+  Vec3 hilum = Vec3::Zero();
+  double vesselRadius = 0.012;  // m, grown until the sphere holds 12 nodes of the coarse mesh
+  Vec3 rightLoad = Vec3::Zero(), leftLoad = Vec3::Zero();  // centres of the loaded regions
+  double loadRadius = 0.03;
+  bool ridgeFound = false;
+};
+
+struct LiverScenario {
+  std::string dir;  // where the files went
+  LiverAnatomy anatomy;
+  SurfaceMeshingReport coarse, fine;
+  double curveLength = 0;                // m
+  int fixedNodes = 0;                    // baseline: coarse nodes held in place of the ligament
+  double rightForce = 0, leftForce = 0;  // peak loads used, N
+};
+
+// Meshes the surface twice, derives the anatomy, picks the points and writes to outDir:
+// coarse.vtu, fine.vtu, curve.csv, markers.csv, validation.csv, tumours.csv, anatomy.csv (the
+// frame: centre, anterior, superior, lateral) and the scenes
+// truth.yaml (run first: simulate), estimate.yaml (assimilate) and baseline.yaml (simulate).
+// Throws InputError for unreadable or unmeshable input.
+LiverScenario prepareLiverScenario(const LiverScenarioOptions& options, const std::string& outDir);
+
+}  // namespace bcassim

@@ -1,0 +1,252 @@
+#include "bcassim/scene/AssimilationSettingsReader.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "bcassim/Error.h"
+#include "bcassim/mechanics/FrozenTangent.h"
+
+namespace bcassim {
+
+TrackFrames toStepFrames(const MarkerTracks& tracks, const std::string& file, int numPoints,
+                         const std::string& pointsName, double dt, int steps, double timeOffset) {
+  if (tracks.numMarkers != numPoints)
+    throw InputError(
+        fmt::format("'{}' holds {} points (1 + largest marker index); the scene has {} {}", file,
+                    tracks.numMarkers, numPoints, pointsName));
+  TrackFrames out;
+  out.file = file;
+  out.frames.assign(steps + 1, Eigen::MatrixX3d::Constant(
+                                   numPoints, 3, std::numeric_limits<double>::quiet_NaN()));
+  out.present.assign(steps + 1, false);
+  for (size_t f = 0; f < tracks.times.size(); ++f) {
+    const double s = (tracks.times[f] - timeOffset) / dt;
+    const double k = std::round(s);
+    // Times are written with full precision, so anything beyond rounding noise is another dt.
+    if (std::abs(s - k) > 1e-3)
+      throw InputError(fmt::format(
+          "'{}': frame at time {:.9g} s is not on the scene's time grid {:.9g} s + k x {:.9g} s "
+          "(time.dt); the tracks must come from a run with the same dt",
+          file, tracks.times[f], timeOffset, dt));
+    if (k < 0 || k > steps) continue;
+    out.frames[static_cast<size_t>(k)] = tracks.frames[f];
+    out.present[static_cast<size_t>(k)] = true;
+  }
+  return out;
+}
+
+namespace yamlio {
+
+namespace {
+
+std::string indexed(const std::string& path, size_t i) {
+  return path + "[" + std::to_string(i) + "]";
+}
+
+// Young's modulus target: model and Poisson's ratio default to the region's scene material.
+YoungModulusTarget readYoungTarget(const YamlSource& src, const MapReader& r,
+                                   const MechanicalModel& model) {
+  YoungModulusTarget t;
+  t.region = r.integer("region", 0);
+  const int regions = model.elasticity.numRegions();
+  if (t.region >= regions)
+    r.fail("region",
+           fmt::format("expected a material region in [0, {}), got {}", regions, t.region));
+  const Material& material = model.elasticity.material(t.region);
+  t.model = r.choice("model", materialName(material),
+                     {"linear", "corotational", "stvk", "neohookean", "mooneyrivlin", "ogden"});
+  const double nu = std::visit(
+      [](const auto& m) -> double {
+        if constexpr (requires {
+                        m.lambda;
+                        m.mu;
+                      })
+          return m.lambda / (2 * (m.lambda + m.mu));
+        else
+          return std::numeric_limits<double>::quiet_NaN();
+      },
+      material);
+  if (std::isnan(nu) && !r.has("poisson_ratio"))
+    failAt(src, r.self(), r.pathOf("poisson_ratio"),
+           "missing (the region's material does not give one)");
+  t.poissonRatio = r.number("poisson_ratio", nu, "-");
+  if (!(t.poissonRatio > -1.0 && t.poissonRatio < 0.5))
+    r.fail("poisson_ratio", "must be in (-1, 0.5), got " + r.node("poisson_ratio").Scalar());
+  return t;
+}
+
+SpringCoefficientTarget readSpringTarget(const MapReader& r, const MechanicalModel& model) {
+  SpringCoefficientTarget t;
+  t.group = r.integer("group", 0);
+  const int groups = model.springs.numGroups();
+  if (t.group >= groups)
+    r.fail("group", groups == 0 ? std::string("the scene has no springs")
+                                : fmt::format("expected a spring group in [0, {}), got {}", groups,
+                                              t.group));
+  const std::string c = r.choice("coefficient", "alpha", {"alpha", "beta", "gamma"});
+  t.coefficient = c == "alpha" ? 0 : c == "beta" ? 1 : 2;
+  return t;
+}
+
+EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
+                                 const std::string& path, const MechanicalModel& model) {
+  MapReader r(src, node, path,
+              {"name", "young_modulus", "spring", "mean", "stddev", "transform", "lower", "upper",
+               "truth"});
+  if (r.has("young_modulus") == r.has("spring"))
+    failAt(src, node, path, "expected exactly one of young_modulus, spring (what it sets)");
+  EstimatedParameter p;
+  std::string unit;
+  if (r.has("young_modulus")) {
+    MapReader t(src, r.node("young_modulus"), r.pathOf("young_modulus"),
+                {"region", "model", "poisson_ratio"});
+    const YoungModulusTarget target = readYoungTarget(src, t, model);
+    p.target = target;
+    p.name = "E_" + std::to_string(target.region);
+    unit = "Pa";
+  } else {
+    MapReader t(src, r.node("spring"), r.pathOf("spring"), {"group", "coefficient"});
+    const SpringCoefficientTarget target = readSpringTarget(t, model);
+    p.target = target;
+    const char* names[] = {"k_alpha", "k_beta", "k_gamma"};
+    const char* units[] = {"N/m^3", "N/m^2", "N/m"};
+    p.name = std::string(names[target.coefficient]) + "_" + std::to_string(target.group);
+    unit = units[target.coefficient];
+  }
+  p.name = r.text("name", p.name);
+  if (p.name.empty() || p.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTU"
+                                                 "VWXYZ0123456789_-.") != std::string::npos)
+    r.fail("name",
+           "expected a name of letters, digits, '_', '-', '.', got " + describe(r.node("name")));
+  if (!r.has("mean")) failAt(src, node, r.pathOf("mean"), "missing (initial value, " + unit + ")");
+  if (!r.has("stddev"))
+    failAt(src, node, r.pathOf("stddev"), "missing (initial standard deviation, " + unit + ")");
+  p.mean = r.number("mean", 0.0, unit);
+  p.stddev = r.number("stddev", 0.0, unit, Range::Positive);
+  const std::string kind =
+      r.choice("transform", "none", {"none", "abs", "log", "exp", "projection"});
+  const bool box = kind == "projection";
+  r.rejectUnless(box, "lower", "transform projection");
+  r.rejectUnless(box, "upper", "transform projection");
+  if (box) {
+    if (!r.has("lower") || !r.has("upper"))
+      failAt(src, node, path, "transform projection needs lower and upper");
+    const double lo = r.number("lower", 0.0, unit);
+    const double hi = r.number("upper", 0.0, unit);
+    if (!(lo < hi)) r.fail("upper", fmt::format("must be > lower ({:.6g}), got {:.6g}", lo, hi));
+    p.transform = ParameterTransform::projection(lo, hi);
+  } else {
+    p.transform = kind == "none"  ? ParameterTransform::identity()
+                  : kind == "abs" ? ParameterTransform::absolute()
+                                  : ParameterTransform::exponential();
+  }
+  try {
+    p.transform.toUnconstrained(p.mean);
+  } catch (const InputError&) {
+    r.fail("mean", fmt::format("{:.6g} is outside the range of transform {}", p.mean, kind));
+  }
+  if (r.has("truth")) p.truth = r.number("truth", 0.0, unit);
+  return p;
+}
+
+TrackFrames readFrames(const YamlSource& src, const MapReader& r, const std::string& key,
+                       int numPoints, const std::string& pointsName, const AssimilationContext& c,
+                       double offset) {
+  const std::string file = r.existingFile(key);
+  TrackFrames frames;
+  withContext(src, r.node(key), r.pathOf(key), [&] {
+    frames =
+        toStepFrames(readMarkerTracks(file), file, numPoints, pointsName, c.dt, c.steps, offset);
+  });
+  return frames;
+}
+
+}  // namespace
+
+AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML::Node& node,
+                                              const AssimilationContext& c) {
+  MapReader r(src, node, "assimilation",
+              {"filter", "sigma_points", "sigma_spread", "members", "inflation", "seed", "threads",
+               "state", "reuse_factorization", "tangent", "tangent_refresh_every",
+               "tangent_background", "parameters", "observations", "validation"});
+  AssimilationSettings s;
+  const std::string filter = r.choice("filter", "roukf", {"ukf", "roukf", "etkf"});
+  s.filter = filter == "ukf"     ? FilterKind::Ukf
+             : filter == "roukf" ? FilterKind::Roukf
+                                 : FilterKind::Etkf;
+  r.rejectUnless(s.filter != FilterKind::Etkf, "sigma_points", "filters ukf and roukf");
+  r.rejectUnless(s.filter == FilterKind::Etkf, "members", "filter etkf");
+  r.rejectUnless(s.filter != FilterKind::Roukf, "inflation",
+                 "filters ukf and etkf (roukf keeps its rank)");
+  const std::string sigma =
+      r.choice("sigma_points", s.filter == FilterKind::Ukf ? "star" : "simplex",
+               {"star", "canonical", "simplex"});
+  s.sigmaPoints = sigma == "star"        ? SigmaPointKind::Star
+                  : sigma == "canonical" ? SigmaPointKind::Canonical
+                                         : SigmaPointKind::Simplex;
+  r.rejectUnless(s.filter == FilterKind::Ukf, "sigma_spread", "filter ukf");
+  s.sigmaSpread = r.number("sigma_spread", 1.0, "-", Range::Positive);
+  s.members = r.integer("members", 6);
+  if (s.members < 2) r.fail("members", "must be >= 2, got " + std::to_string(s.members));
+  s.inflation = r.number("inflation", 0.0, "-", Range::NonNegative);
+  s.seed = static_cast<std::uint64_t>(r.integer("seed", 1));
+  s.threads = r.integer("threads", 1, Range::AtLeastOne);
+  MapReader state(src, r.node("state"), r.pathOf("state"), {"positions", "velocities"});
+  s.carryPositions = state.boolean("positions", true);
+  s.carryVelocities = state.boolean("velocities", true);
+  s.reuseFactorization = r.boolean("reuse_factorization", true);
+  s.meanTangent = r.choice("tangent", "own", {"own", "mean"}) == "mean";
+  if (s.meanTangent &&
+      c.model.springs.springs().size() > static_cast<size_t>(FrozenTangent::kMaxCorrectedSprings))
+    r.fail("tangent",
+           fmt::format("mean corrects at most {} springs exactly (the springs' stiffness is each "
+                       "sigma point's own); this scene has {}: use tangent: own",
+                       FrozenTangent::kMaxCorrectedSprings, c.model.springs.springs().size()));
+  s.tangentRefreshEvery = r.integer("tangent_refresh_every", 1, Range::AtLeastOne);
+  s.tangentInBackground = r.boolean("tangent_background", false);
+  r.rejectUnless(s.meanTangent, "tangent_refresh_every", "tangent: mean");
+  r.rejectUnless(s.meanTangent, "tangent_background", "tangent: mean");
+
+  const auto entries = listElements(src, r.node("parameters"), r.pathOf("parameters"));
+  if (entries.empty())
+    failAt(src, r.has("parameters") ? r.node("parameters") : node, r.pathOf("parameters"),
+           "expected a non-empty list of estimated parameters");
+  std::set<std::string> names;
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const std::string path = indexed(r.pathOf("parameters"), i);
+    s.parameters.push_back(readParameter(src, entries[i], path, c.model));
+    if (!names.insert(s.parameters.back().name).second)
+      failAt(src, entries[i], path + ".name",
+             "name '" + s.parameters.back().name + "' is used twice");
+  }
+
+  if (!r.has("observations"))
+    failAt(src, node, r.pathOf("observations"), "missing (tracks of the observed markers)");
+  MapReader obs(src, r.node("observations"), r.pathOf("observations"),
+                {"tracks", "noise_stddev", "sigma", "until_step", "time_offset"});
+  if (!obs.has("tracks"))
+    failAt(src, obs.self(), obs.pathOf("tracks"), "missing (CSV time,marker,x,y,z in s and m)");
+  if (c.markers == 0)
+    obs.fail("tracks", "the scene has no markers; add a markers: section (the observed points)");
+  s.observations.timeOffset = obs.number("time_offset", 0.0, "s");
+  s.observations.noiseStddev = obs.number("noise_stddev", 0.0, "m", Range::NonNegative);
+  s.observations.sigma = obs.number("sigma", 1e-4, "m", Range::Positive);
+  s.observations.untilStep = obs.integer("until_step", c.steps);
+  s.observations.tracks =
+      readFrames(src, obs, "tracks", c.markers, "markers", c, s.observations.timeOffset);
+
+  MapReader val(src, r.node("validation"), r.pathOf("validation"), {"tracks"});
+  if (val.has("tracks")) {
+    if (c.validationPoints == 0)
+      val.fail("tracks", "the scene has no validation_points (the points the tracks follow)");
+    s.validationTruth = readFrames(src, val, "tracks", c.validationPoints, "validation points", c,
+                                   s.observations.timeOffset);
+  }
+  return s;
+}
+
+}  // namespace yamlio
+}  // namespace bcassim

@@ -1,0 +1,47 @@
+#include "bcassim/scene/ModelParameter.h"
+
+#include <fmt/format.h>
+
+#include "bcassim/Error.h"
+
+namespace bcassim {
+
+void applyParameter(const ModelParameterTarget& target, double value, MechanicalModel& model) {
+  if (const auto* e = std::get_if<YoungModulusTarget>(&target)) {
+    if (e->region < 0 || e->region >= model.elasticity.numRegions())
+      throw InputError(fmt::format("young_modulus parameter: region {} does not exist ({} regions)",
+                                   e->region, model.elasticity.numRegions()));
+    model.elasticity.setMaterial(e->region, makeMaterial(e->model, value, e->poissonRatio));
+    return;
+  }
+  const auto& k = std::get<SpringCoefficientTarget>(target);
+  if (k.group < 0 || k.group >= model.springs.numGroups())
+    throw InputError(fmt::format("spring parameter: group {} does not exist ({} groups)", k.group,
+                                 model.springs.numGroups()));
+  CubicSpringCoefficients c = model.springs.coefficients(k.group);
+  (k.coefficient == 0 ? c.kAlpha : k.coefficient == 1 ? c.kBeta : c.kGamma) = value;
+  model.springs.setCoefficients(k.group, c);
+}
+
+double readParameter(const ModelParameterTarget& target, const MechanicalModel& model) {
+  if (const auto* e = std::get_if<YoungModulusTarget>(&target)) {
+    // Young's modulus is not stored by the materials; recover it from the small-strain moduli.
+    return std::visit(
+        [&](const auto& m) -> double {
+          if constexpr (requires {
+                          m.lambda;
+                          m.mu;
+                        }) {
+            return m.mu * (3 * m.lambda + 2 * m.mu) / (m.lambda + m.mu);
+          } else {
+            throw InputError("young_modulus parameter: the region's material is not given by E");
+          }
+        },
+        model.elasticity.material(e->region));
+  }
+  const auto& k = std::get<SpringCoefficientTarget>(target);
+  const CubicSpringCoefficients c = model.springs.coefficients(k.group);
+  return k.coefficient == 0 ? c.kAlpha : k.coefficient == 1 ? c.kBeta : c.kGamma;
+}
+
+}  // namespace bcassim

@@ -1,0 +1,184 @@
+// `bcassim assimilate` and `validate` as a user meets them: one-line located errors with exit
+// code 2 for a malformed assimilation section, a run's summary and files, and the validation
+// tracks written by `simulate`.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "bcassim/io/CsvTracks.h"
+#include "support/TestFiles.h"
+
+namespace bcassim {
+namespace {
+
+using test::freshDir;
+using test::runBcassim;
+using test::writeText;
+
+// Two markers on a small beam; line 6 opens the assimilation section.
+const char* kScene =
+    "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
+    "markers:\n"
+    "  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
+    "time: {dt: 0.01, steps: 3}\n"
+    "output: {pvd: false}\n"
+    "assimilation:\n";
+
+const char* kTwoMarkers =
+    "time,marker,x,y,z\n"
+    "0.01,0,0.1,0.01,0.01\n0.01,1,0.05,0.01,0.01\n"
+    "0.02,0,0.1,0.01,0.01\n0.02,1,0.05,0.01,0.01\n";
+
+test::CliResult assimilate(const std::filesystem::path& dir, const std::string& section,
+                           const std::string& tracks = kTwoMarkers) {
+  writeText(dir / "scene.yaml", std::string(kScene) + section);
+  writeText(dir / "tracks.csv", tracks);
+  return runBcassim(dir, "assimilate scene.yaml --out out --quiet --no-plots");
+}
+
+void expectError(const test::CliResult& r, const std::string& message) {
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err, "bcassim: error: " + message + "\n");
+  EXPECT_EQ(r.out, "");
+}
+
+const char* kParameters =
+    "  parameters:\n"
+    "    - {young_modulus: {region: 0}, mean: 4000, stddev: 1000}\n";
+
+// An assimilation section: the given options, then one parameter and the tracks.csv observations.
+std::string sectionWith(const std::string& options) {
+  return options + kParameters + "  observations: {tracks: tracks.csv}\n";
+}
+
+TEST(AssimilationCli, UnknownFilter) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, sectionWith("  filter: kalman\n")),
+              "scene.yaml:7: assimilation.filter: expected one of ukf, roukf, etkf, got 'kalman'");
+}
+
+TEST(AssimilationCli, SigmaSpreadOnlyForUkfAndPositive) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, sectionWith("  filter: roukf\n  sigma_spread: 0.1\n")),
+              "scene.yaml:8: assimilation.sigma_spread: only for filter ukf");
+  expectError(assimilate(dir, sectionWith("  filter: ukf\n  sigma_spread: 0\n")),
+              "scene.yaml:8: assimilation.sigma_spread: must be > 0, got 0");
+}
+
+TEST(AssimilationCli, MissingTracksFile) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string(kParameters) + "  observations: {tracks: gone.csv}\n"),
+              "scene.yaml:9: assimilation.observations.tracks: cannot open '" +
+                  (dir / "gone.csv").string() + "'");
+}
+
+TEST(AssimilationCli, MarkerCountMismatch) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string(kParameters) + "  observations: {tracks: tracks.csv}\n",
+                         std::string(kTwoMarkers) + "0.02,2,0.1,0.01,0.01\n"),
+              "scene.yaml:9: assimilation.observations.tracks: '" + (dir / "tracks.csv").string() +
+                  "' holds 3 points (1 + largest marker index); the scene has 2 markers");
+}
+
+TEST(AssimilationCli, TracksOffTheTimeGrid) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, std::string(kParameters) + "  observations: {tracks: tracks.csv}\n",
+                         "time,marker,x,y,z\n0.015,0,0.1,0.01,0.01\n0.015,1,0.05,0.01,0.01\n"),
+              "scene.yaml:9: assimilation.observations.tracks: '" + (dir / "tracks.csv").string() +
+                  "': frame at time 0.015 s is not on the scene's time grid 0 s + k x 0.01 s "
+                  "(time.dt); the tracks must come from a run with the same dt");
+}
+
+TEST(AssimilationCli, MissingParameterMean) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir,
+                         "  parameters:\n    - {spring: {group: 0}, stddev: 1}\n"
+                         "  observations: {tracks: tracks.csv}\n"),
+              "scene.yaml:8: assimilation.parameters[0].spring.group: the scene has no springs");
+}
+
+TEST(AssimilationCli, InflationOnlyForUkfAndEtkf) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, sectionWith("  inflation: 0.1\n")),
+              "scene.yaml:7: assimilation.inflation: only for filters ukf and etkf (roukf keeps "
+              "its rank)");
+}
+
+TEST(AssimilationCli, TangentOptionsNeedTheMeanTangent) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, sectionWith("  tangent_background: true\n")),
+              "scene.yaml:7: assimilation.tangent_background: only for tangent: mean");
+  expectError(assimilate(dir, sectionWith("  tangent: frozen\n")),
+              "scene.yaml:7: assimilation.tangent: expected one of own, mean, got 'frozen'");
+}
+
+TEST(AssimilationCli, MeanTangentRefusesMoreSpringsThanItCorrects) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml",
+            "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [20, 4, 4]}\n"
+            "springs:\n  groups: [{coefficients: [0, 0, 10]}]\n"
+            "  attachments: [{region: {box: {min: [-1, -1, -1], max: [1, 1, 1]}}}]\n"
+            "markers:\n  - points: [[0.1, 0.01, 0.01]]\n"
+            "time: {dt: 0.01, steps: 3}\n"
+            "assimilation:\n"
+            "  tangent: mean\n"
+            "  parameters: [{spring: {group: 0, coefficient: gamma}, mean: 10, stddev: 1}]\n"
+            "  observations: {tracks: tracks.csv}\n");
+  writeText(dir / "tracks.csv", "time,marker,x,y,z\n0.01,0,0.1,0.01,0.01\n");
+  const test::CliResult r = runBcassim(dir, "assimilate scene.yaml --out out --quiet --no-plots");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err,
+            "bcassim: error: scene.yaml:9: assimilation.tangent: mean corrects at most 128 springs "
+            "exactly (the springs' stiffness is each sigma point's own); this scene has 354: use "
+            "tangent: own\n");
+}
+
+TEST(AssimilationCli, RunPrintsSummaryAndWritesFiles) {
+  const auto dir = freshDir();
+  const test::CliResult r = assimilate(
+      dir, std::string(kParameters) + "  observations: {tracks: tracks.csv, until_step: 2}\n");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("E_0"), std::string::npos);
+  EXPECT_NE(r.out.find("no validation"), std::string::npos);
+  for (const char* f : {"estimates.csv", "parameters.csv", "timing.csv", "filter.csv"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / f)) << f;
+  // Step 3 has no frame: a prediction only.
+  EXPECT_NE(test::readText(dir / "out" / "filter.csv").find("\n3,0.03,0,0,0\n"), std::string::npos);
+
+  // validate needs the truth of validation points.
+  const test::CliResult v =
+      runBcassim(dir, "validate scene.yaml --estimates out/estimates.csv --out val --no-plots");
+  expectError(v,
+              "scene.yaml: assimilation.validation.tracks: missing (truth of the validation "
+              "points)");
+}
+
+TEST(AssimilationCli, SimulateWritesValidationTracksFromRest) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml",
+            "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
+            "validation_points: {points: [[0.1, 0.01, 0.01]]}\n"
+            "time: {dt: 0.01, steps: 2}\noutput: {pvd: false}\n");
+  const test::CliResult r = runBcassim(dir, "simulate scene.yaml --out out --quiet");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  // Frame 0 is the rest state: displacements of the truth are measured from it.
+  const MarkerTracks t = readMarkerTracks((dir / "out" / "validation.csv").string());
+  ASSERT_EQ(t.times.size(), 3u);
+  EXPECT_EQ(t.numMarkers, 1);
+  EXPECT_EQ(t.times[0], 0.0);
+  EXPECT_NEAR(t.times[2], 0.02, 1e-12);
+  EXPECT_NEAR((t.frames[0].row(0) - Eigen::RowVector3d(0.1, 0.01, 0.01)).norm(), 0.0, 1e-12);
+}
+
+TEST(AssimilationCli, ValidationPointsNeedOneSource) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml",
+            "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
+            "validation_points: {nodes: some}\n");
+  expectError(runBcassim(dir, "simulate scene.yaml --out out --quiet"),
+              "scene.yaml:2: validation_points.nodes: expected 'all' (every mesh node), got "
+              "'some'");
+}
+
+}  // namespace
+}  // namespace bcassim

@@ -1,0 +1,146 @@
+// The bcassim executable as a user meets it: one-line errors with file, line and key and exit
+// code 2 for bad scenes, a successful run, mesh info and --version.
+#include <gtest/gtest.h>
+
+#include "bcassim/io/MeshWriter.h"
+#include "bcassim/mesh/MeshGenerators.h"
+#include "support/TestFiles.h"
+
+namespace bcassim {
+namespace {
+
+using test::freshDir;
+using test::runBcassim;
+using test::writeText;
+
+const char* kMesh = "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n";
+
+// Writes `yaml` as scene.yaml in a fresh directory and runs `bcassim simulate` on it.
+test::CliResult simulateScene(const std::string& yaml) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml", yaml);
+  return runBcassim(dir, "simulate scene.yaml --out out --quiet");
+}
+
+void expectInputError(const std::string& yaml, const std::string& message) {
+  const test::CliResult r = simulateScene(yaml);
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err, "bcassim: error: " + message + "\n");
+  EXPECT_EQ(r.out, "");
+}
+
+TEST(Cli, UnknownKey) {
+  expectInputError(std::string(kMesh) + "material:\n  model: stvk\n  youngs_modulus: 8000\n",
+                   "scene.yaml:4: unknown key 'youngs_modulus' in material; expected one of "
+                   "model, young_modulus, poisson_ratio, c10, c01, kappa, mu, alpha");
+}
+
+TEST(Cli, WrongType) {
+  expectInputError(std::string(kMesh) + "time:\n  dt: fast\n",
+                   "scene.yaml:3: time.dt: expected a number in seconds, got 'fast'");
+}
+
+TEST(Cli, MissingMeshFile) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml", "# liver\nmesh:\n  file: ../data/nothere.vtk\n");
+  const test::CliResult r = runBcassim(dir, "simulate scene.yaml --out out");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err, "bcassim: error: scene.yaml:3: mesh.file: cannot open '" +
+                       (dir.parent_path() / "data" / "nothere.vtk").string() + "'\n");
+}
+
+TEST(Cli, NonPositiveTimeStep) {
+  expectInputError(std::string(kMesh) + "time: {dt: 0, steps: 10}\n",
+                   "scene.yaml:2: time.dt: must be > 0 seconds, got 0");
+}
+
+TEST(Cli, RegionSelectingNothing) {
+  expectInputError(std::string(kMesh) +
+                       "fixed:\n  - region:\n      sphere: {center: [1, 1, 1], "
+                       "radius: 0.01}\n",
+                   "scene.yaml:4: fixed[0].region: selects no node of the mesh");
+}
+
+TEST(Cli, InvalidYaml) {
+  expectInputError(std::string(kMesh) + "time: {dt: 0.01\nsteps: 3\n",
+                   "scene.yaml:3: invalid YAML: end of map flow not found");
+}
+
+TEST(Cli, PoissonRatioOutOfRange) {
+  expectInputError(std::string(kMesh) + "material: {poisson_ratio: 0.5}\n",
+                   "scene.yaml:2: material.poisson_ratio: must be in (-1, 0.5), got 0.5");
+}
+
+TEST(Cli, FailedRunIsANumericalErrorWithExitCode3) {
+  // One Newton iteration cannot balance a load that bends the beam a lot.
+  const test::CliResult r =
+      simulateScene(std::string(kMesh) +
+                    "integrator: {type: static, max_iterations: 1}\ntime: {dt: 1, steps: 1}\n"
+                    "fixed:\n  - region: {box: {min: [-1, -1, -1], max: [0.0001, 1, 1]}}\n"
+                    "loads:\n  - region: {box: {min: [0.0999, -1, -1], max: [1, 1, 1]}}\n"
+                    "    total_force: [0, 0, 0.5]\n");
+  EXPECT_EQ(r.exitCode, 3);
+  EXPECT_EQ(test::countLines(r.err), 1);
+  EXPECT_EQ(r.err.rfind("bcassim: error: scene.yaml: static equilibrium not reached at t = 1 s", 0),
+            0u)
+      << r.err;
+}
+
+TEST(Cli, MissingSceneFile) {
+  const auto dir = freshDir();
+  const test::CliResult r = runBcassim(dir, "simulate none.yaml");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err, "bcassim: error: none.yaml: cannot open file\n");
+}
+
+TEST(Cli, BadArgumentsAreOneLineInputErrors) {
+  const auto dir = freshDir();
+  const test::CliResult r = runBcassim(dir, "simulate");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(test::countLines(r.err), 1);
+  EXPECT_EQ(r.err.rfind("bcassim: error: ", 0), 0u);
+}
+
+TEST(Cli, SimulateWritesOutputsAndSummary) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml", std::string(kMesh) +
+                                    "time: {steps: 4}\nfixed:\n  - region: {nodes: [0, 5]}\n"
+                                    "markers:\n  - points: [[0.1, 0.02, 0.02]]\n");
+  const test::CliResult r = runBcassim(dir, "simulate scene.yaml --out results");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "results" / "simulation.pvd"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "results" / "markers.csv"));
+  EXPECT_NE(r.out.find("scene scene.yaml: 20 nodes, 24 tets, 1 markers, 0 springs, 4 steps"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("base: 4 steps"), std::string::npos) << r.out;
+}
+
+TEST(Cli, MeshInfoReportsCountsAndQuality) {
+  const auto dir = freshDir();
+  writeTetMesh((dir / "box.vtk").string(), makeBoxMesh(Vec3(0.03, 0.02, 0.01), 3, 2, 1));
+  const test::CliResult r = runBcassim(dir, "mesh info box.vtk");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("nodes: 24\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("tets: 36\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("regions: 0 (36 tets)\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("volume: 6e-06 m^3\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("inverted tets: 0\n"), std::string::npos) << r.out;
+}
+
+TEST(Cli, MeshInfoOnAMissingFile) {
+  const auto dir = freshDir();
+  const test::CliResult r = runBcassim(dir, "mesh info none.vtk");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err, "bcassim: error: none.vtk: cannot open file\n");
+}
+
+TEST(Cli, Version) {
+  const auto dir = freshDir();
+  const test::CliResult r = runBcassim(dir, "--version");
+  EXPECT_EQ(r.exitCode, 0);
+  EXPECT_EQ(r.out.rfind("bcassim ", 0), 0u);
+}
+
+}  // namespace
+}  // namespace bcassim

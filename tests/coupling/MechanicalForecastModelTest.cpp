@@ -1,0 +1,143 @@
+// The FEM adapter of the filters: a forecast is exactly one implicit-Euler step of the model with
+// the given state and parameters, and sharing worker 0's factorisation changes nothing beyond
+// the PCG tolerance (thesis Alg. 4/5).
+#include <gtest/gtest.h>
+
+#include "bcassim/coupling/MechanicalForecastModel.h"
+#include "bcassim/mechanics/solvers/LinearSolverFactory.h"
+#include "bcassim/mesh/MeshGenerators.h"
+
+namespace bcassim {
+namespace {
+
+MechanicalModel cylinderModel() {
+  auto mesh = std::make_shared<const TetMesh>(makeCylinderMesh(0.015, 0.18, 300));
+  MechanicalModel model =
+      makeMechanicalModel(mesh, {makeMaterial("stvk", 8000, 0.45)}, 1000, MassKind::Lumped);
+  std::vector<int> ends, middle;
+  for (int i = 0; i < mesh->numNodes(); ++i) {
+    if (mesh->V(i, 2) < 1e-9 || mesh->V(i, 2) > 0.18 - 1e-9) ends.push_back(i);
+    if (std::abs(mesh->V(i, 2) - 0.09) < 0.01 && mesh->V(i, 1) > 0.012) middle.push_back(i);
+  }
+  model.dirichlet = DirichletConditions({{ends}}, *model.pattern);
+  model.loads.push_back({middle, Vec3(0, 0.02 / middle.size(), 0), {TimeProfile::Kind::Sine, 1.0}});
+  model.rayleighMass = 0.1;
+  return model;
+}
+
+TEST(MechanicalForecastModel, ForecastIsOneImplicitEulerStepWithTheGivenParameters) {
+  MechanicalModel model = cylinderModel();
+  const MechanicalState initial = model.restState();
+  const std::vector<MappedPoint> observed = mapPoints(*model.mesh, model.mesh->V.topRows(5));
+  ForecastModelOptions options;
+  options.solver = "cholmod";
+  MechanicalForecastModel adapter(model, {0.01, 0, 1e-10}, observed,
+                                  {YoungModulusTarget{0, "stvk", 0.45}}, initial, options, 0,
+                                  nullptr);
+  EXPECT_EQ(adapter.stateSize(), 6 * model.mesh->numNodes());
+  EXPECT_EQ(adapter.observationSize(), 15);
+
+  Eigen::VectorXd newState, predicted;
+  adapter.forecast(adapter.packState(initial), Eigen::VectorXd::Constant(1, 6000.0), newState,
+                   predicted);
+
+  MechanicalModel direct = model;
+  direct.elasticity.setMaterial(0, makeMaterial("stvk", 6000, 0.45));
+  ImplicitEuler euler(direct, makeLinearSolver("cholmod"), {0.01, 0, 1e-10});
+  MechanicalState s = initial;
+  euler.step(direct, s);
+  const Eigen::Index n = s.x.size();
+  EXPECT_LT((newState.head(n) - s.x).norm(), 1e-12 * s.x.norm());
+  EXPECT_LT((newState.tail(n) - s.v).norm(), 1e-9 * std::max(s.v.norm(), 1e-12));
+  for (int i = 0; i < 5; ++i)
+    EXPECT_LT((predicted.segment<3>(3 * i) - interpolate(observed[i], *model.mesh, s.x)).norm(),
+              1e-14);
+  // The reference only moves on endStep.
+  EXPECT_EQ(adapter.reference().t, 0.0);
+  adapter.endStep(newState, Eigen::VectorXd::Constant(1, 6000.0));
+  EXPECT_NEAR(adapter.reference().t, 0.01, 1e-15);
+  EXPECT_NEAR(readParameter(YoungModulusTarget{0, "stvk", 0.45}, adapter.model()), 6000.0, 1e-9);
+}
+
+TEST(MechanicalForecastModel, SharedFactorisationGivesTheDirectResult) {
+  MechanicalModel model = cylinderModel();
+  const MechanicalState initial = model.restState();
+  for (bool withinStep : {true, false}) {
+    auto shared = std::make_shared<SharedFactorization>();
+    shared->withinStep = withinStep;
+    ForecastModelOptions reuse;  // factorized-pcg, shared
+    reuse.refresh.relTol = 1e-12;
+    ForecastModelOptions direct;
+    direct.solver = "cholmod";
+    direct.shareFactorization = false;
+    const std::vector<ModelParameterTarget> params{YoungModulusTarget{0, "stvk", 0.45}};
+    MechanicalForecastModel w0(model, {0.01, 0, 1e-10}, {}, params, initial, reuse, 0, shared);
+    MechanicalForecastModel w1(model, {0.01, 0, 1e-10}, {}, params, initial, reuse, 1, shared);
+    MechanicalForecastModel ref(model, {0.01, 0, 1e-10}, {}, params, initial, direct, 0, nullptr);
+    Eigen::VectorXd state = w0.packState(initial), a, b, c, p;
+    for (int step = 0; step < 20; ++step) {
+      const Eigen::VectorXd E0 = Eigen::VectorXd::Constant(1, 8000.0);
+      const Eigen::VectorXd E1 = Eigen::VectorXd::Constant(1, 9000.0);
+      w0.forecast(state, E0, a, p);  // publishes its factorisation, for now or for the next step
+      if (withinStep || step > 0) {
+        ASSERT_TRUE(shared->factor);
+      }
+      w1.forecast(state, E1, b, p);  // preconditioned by worker 0's factor of another E
+      ref.forecast(state, E1, c, p);
+      EXPECT_LT((b - c).norm(), 1e-8 * c.norm()) << "step " << step;
+      for (auto* w : {&w0, &w1, &ref}) w->endStep(a, E0);
+      state = a;
+    }
+  }
+}
+
+// tangent: mean — every worker steps with the tangent worker 0 built at the analysed mean (with
+// the mean's parameters), synchronously at endStep or, in the background, one step later.
+TEST(MechanicalForecastModel, MeanTangentForecastsStepWithTheMeansTangent) {
+  const MechanicalModel model = cylinderModel();
+  const MechanicalState initial = model.restState();
+  const std::vector<ModelParameterTarget> params{YoungModulusTarget{0, "stvk", 0.45}};
+  const ImplicitEulerOptions euler{0.01, 0, 1e-10};
+  const Eigen::VectorXd E0 = Eigen::VectorXd::Constant(1, 8000.0);
+  const Eigen::VectorXd E1 = Eigen::VectorXd::Constant(1, 9500.0);
+  MechanicalModel at8000 = model, at9500 = model;
+  applyParameter(params[0], 8000.0, at8000);
+  applyParameter(params[0], 9500.0, at9500);
+
+  for (bool background : {false, true}) {
+    ForecastModelOptions o;
+    o.meanTangent = true;
+    o.tangentInBackground = background;
+    auto shared = std::make_shared<SharedFactorization>();
+    MechanicalForecastModel w0(at8000, euler, {}, params, initial, o, 0, shared);
+    MechanicalForecastModel w1(at8000, euler, {}, params, initial, o, 1, shared);
+    ASSERT_TRUE(shared->tangent);
+    std::vector<MechanicalState> means{initial};  // analysed means, step by step
+    Eigen::VectorXd state = w0.packState(initial), a, b, p;
+    for (int step = 1; step <= 4; ++step) {
+      w0.forecast(state, E0, a, p);
+      w1.forecast(state, E1, b, p);
+      // Expected: eq. 2.16 with E1's forces and the tangent of the mean (E0) of the previous
+      // step, or of the one before in the background.
+      const int lag = background ? std::max(step - 2, 0) : step - 1;
+      MechanicalState s = means.back();
+      ImplicitEuler direct(at9500, makeLinearSolver("cholmod"), euler);
+      direct.stepWithTangent(at9500, s, *FrozenTangent::build(at8000, means[lag], 0.01));
+      const Eigen::Index n = s.x.size();
+      EXPECT_LT((b.head(n) - s.x).norm(), 1e-12 * s.x.norm()) << background << " step " << step;
+      EXPECT_LT((b.tail(n) - s.v).norm(), 1e-9 * s.v.norm()) << background << " step " << step;
+      w0.endStep(a, E0);
+      w1.endStep(a, E0);
+      means.push_back(w0.reference());
+      state = a;
+    }
+    const ForecastStats cost = w0.takeStats();
+    EXPECT_EQ(cost.forecasts, 4);
+    EXPECT_EQ(cost.factorizations, background ? 4 : 5);  // the first at construction
+    EXPECT_EQ(cost.linearIterations, 0);
+    EXPECT_EQ(w0.takeStats().forecasts, 0);
+  }
+}
+
+}  // namespace
+}  // namespace bcassim

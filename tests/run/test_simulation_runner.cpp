@@ -1,0 +1,173 @@
+// Running scenes end to end through the library: files written, frames, tracks, timings,
+// static equilibrium and variant comparison.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "bcassim/Error.h"
+#include "bcassim/run/SimulationRunner.h"
+#include "bcassim/scene/SceneLoader.h"
+#include "support/TestFiles.h"
+
+namespace bcassim {
+namespace {
+
+using test::countLines;
+using test::countOccurrences;
+using test::freshDir;
+using test::readText;
+
+// A 10 cm cantilever (4 x 1 x 1 cells) clamped at x = 0, pulled up at its free end.
+const std::string kBeam = R"(
+mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}
+material: {model: stvk, young_modulus: 10000, poisson_ratio: 0.3}
+fixed:
+  - region: {box: {min: [-1, -1, -1], max: [0.0001, 1, 1]}}
+loads:
+  - region: {box: {min: [0.0999, -1, -1], max: [1, 1, 1]}}
+    total_force: [0, 0, 0.01]
+markers:
+  - region: {box: {min: [0.0999, -1, -1], max: [1, 1, 1]}}
+  - points: [[0.05, 0.01, 0.01]]
+)";
+
+// A run stopped at step 37 (the last checkpoint at step 30) and resumed writes the same files as
+// one that never stopped: tracks and validation byte for byte (direct solver: the same
+// arithmetic), the .pvd with the same frames, one timing row per step.
+TEST(SimulationRunner, ResumedRunWritesWhatAnUninterruptedOneWrites) {
+  const auto dir = freshDir();
+  const Scene scene = loadSceneFromString(kBeam + R"(
+time: {dt: 0.01, steps: 50}
+output: {every: 10}
+solver: {type: cholmod}
+validation_points: {nodes: all}
+)",
+                                          "beam.yaml", dir.string());
+  runSimulation(scene, (dir / "whole").string());
+  struct Stop {};
+  EXPECT_THROW(runSimulation(scene, (dir / "stopped").string(),
+                             [](const RunProgress& p) {
+                               if (p.step == 37) throw Stop{};
+                             }),
+               Stop);
+  // Rows past the checkpoint (step 30) are on disk too; resuming cuts them off.
+  EXPECT_EQ(countLines(readText(dir / "stopped" / "timing.csv")), 1 + 37);
+  const SimulationResult r = runSimulation(scene, (dir / "stopped").string(), {}, true);
+  EXPECT_EQ(r.runs[0].frames, 6);
+  for (const char* f : {"markers.csv", "validation.csv", "simulation.pvd"})
+    EXPECT_EQ(readText(dir / "stopped" / f), readText(dir / "whole" / f)) << f;
+  EXPECT_EQ(countLines(readText(dir / "stopped" / "timing.csv")), 1 + 50);
+  EXPECT_EQ(readText(dir / "stopped" / "simulation_000005.vtu"),
+            readText(dir / "whole" / "simulation_000005.vtu"));
+
+  // A checkpoint belongs to its scene.
+  const Scene other =
+      loadSceneFromString(kBeam + "time: {dt: 0.02, steps: 50}\n", "other.yaml", dir.string());
+  try {
+    runSimulation(other, (dir / "stopped").string(), {}, true);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              (dir / "stopped" / "checkpoint.bin").string() +
+                  ": written for another scene (nodes 20 tets 24 dt 0.01 implicit-euler); this "
+                  "scene is nodes 20 tets 24 dt 0.02 implicit-euler");
+  }
+  try {
+    runSimulation(scene, (dir / "nothing").string(), {}, true);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "nothing" / "checkpoint.bin").string() +
+                                         ": no checkpoint to resume from (run without --resume)");
+  }
+}
+
+TEST(SimulationRunner, WritesSeriesTracksAndTimings) {
+  const auto dir = freshDir();
+  const Scene scene = loadSceneFromString(kBeam + R"(
+time: {dt: 0.01, steps: 7}
+output: {every: 3}
+springs:
+  attachments: [{region: {box: {min: [0.05, -1, 0.0199], max: [0.05, 1, 1]}}}]
+)",
+                                          "beam.yaml", dir.string());
+  std::vector<int> seen;
+  const SimulationResult result = runSimulation(
+      scene, (dir / "out").string(), [&](const RunProgress& p) { seen.push_back(p.stepsDone); });
+
+  ASSERT_EQ(result.runs.size(), 1u);
+  const RunResult& run = result.runs[0];
+  EXPECT_EQ(run.steps, 7);
+  // Steps 0, 3, 6 and the last one, 7.
+  EXPECT_EQ(run.frames, 4);
+  const std::string pvd = readText(dir / "out" / "simulation.pvd");
+  EXPECT_EQ(countOccurrences(pvd, "part=\"0\""), 4);
+  EXPECT_EQ(countOccurrences(pvd, "simulation_markers_"), 4);
+  EXPECT_EQ(countOccurrences(pvd, "simulation_springs_"), 4);
+  for (int f = 0; f < 4; ++f)
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / fmt::format("simulation_{:06}.vtu", f)));
+
+  // 5 markers (4 end nodes + 1 point) after each of 7 steps, plus the header.
+  const std::string markers = readText(dir / "out" / "markers.csv");
+  EXPECT_EQ(countLines(markers), 1 + 7 * 5);
+  EXPECT_EQ(markers.substr(0, markers.find('\n')), "time,marker,x,y,z");
+  const std::string timing = readText(dir / "out" / "timing.csv");
+  EXPECT_EQ(countLines(timing), 1 + 7);
+  EXPECT_EQ(timing.substr(0, timing.find('\n')),
+            "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations");
+
+  EXPECT_EQ(seen, (std::vector<int>{1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_GT(run.maxMarkerDisplacement, 0.0);
+  EXPECT_GT(run.meanStepMs, 0.0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "variants.csv"));
+}
+
+TEST(SimulationRunner, StaticEquilibriumBendsTheBeamTowardsTheLoad) {
+  const auto dir = freshDir();
+  const Scene scene = loadSceneFromString(kBeam + R"(
+integrator: {type: static, load_steps: 2}
+time: {dt: 1, steps: 2}
+output: {pvd: false}
+)",
+                                          "beam.yaml", dir.string());
+  const SimulationResult result = runSimulation(scene, dir.string());
+  EXPECT_EQ(result.runs[0].frames, 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "simulation.pvd"));
+  // Last line: the mid-beam point marker (index 4) at the final time moved up in z.
+  const std::string markers = readText(dir / "markers.csv");
+  const std::string last = markers.substr(markers.rfind('\n', markers.size() - 2) + 1);
+  EXPECT_EQ(last.substr(0, 4), "2,4,");
+  const double z = std::stod(last.substr(last.rfind(',') + 1));
+  EXPECT_GT(z, 0.01 + 1e-5);
+  EXPECT_EQ(readText(dir / "timing.csv").substr(0, 37), "step,time_s,total_ms,newton_iteration");
+}
+
+TEST(SimulationRunner, VariantsAreComparedWithTheBase) {
+  const auto dir = freshDir();
+  const Scene scene = loadSceneFromString(kBeam + R"(
+time: {dt: 0.01, steps: 5}
+output: {every: 5}
+variants:
+  - {name: same, material: {model: stvk}}
+  - {name: linear, material: {model: linear}}
+  - {name: soft, material: {young_modulus: 5000}}
+)",
+                                          "beam.yaml", dir.string());
+  const SimulationResult result = runSimulation(scene, dir.string());
+  ASSERT_EQ(result.runs.size(), 4u);
+  EXPECT_EQ(result.runs[0].name, "base");
+  EXPECT_EQ(result.runs[0].relativeDifferenceFinal, 0.0);
+  EXPECT_EQ(result.runs[1].relativeDifferenceFinal, 0.0);  // same model, same numbers
+  EXPECT_EQ(result.runs[1].relativeDifferenceAll, 0.0);
+  EXPECT_GT(result.runs[2].relativeDifferenceFinal, 0.0);
+  EXPECT_GT(result.runs[3].relativeDifferenceAll, 0.1);  // half the stiffness: far off
+  EXPECT_GE(result.runs[3].relativeDifferenceAll, result.runs[3].relativeDifferenceFinal);
+  EXPECT_TRUE(std::filesystem::exists(dir / "soft" / "simulation.pvd"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "linear" / "markers.csv"));
+  const std::string csv = readText(dir / "variants.csv");
+  EXPECT_EQ(countLines(csv), 5);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "name,max_rel_diff_final,max_rel_diff_all,mean_step_ms,max_marker_displacement_m");
+  EXPECT_NE(csv.find("\nsame,0,0,"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace bcassim
