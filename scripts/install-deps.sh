@@ -9,6 +9,7 @@ PACKAGES=(
   libvtk9-dev libcgal-dev libyaml-cpp-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libopenmpi-dev
   python3 python3-matplotlib python3-numpy
+  clang-format clang-tidy  # make lint: the formatting and the bug-finding checks CI runs
   xvfb xauth  # a virtual X display: VTK 9.1 on Debian renders the demo picture through X
 )
 
