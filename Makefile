@@ -9,7 +9,7 @@ export BCASSIM_DATA
 OMP_THREAD_LIMIT ?= 1
 export OMP_THREAD_LIMIT
 
-.PHONY: all deps configure build test demo bench clean
+.PHONY: all deps configure build test lint demo bench clean
 
 all: build
 
@@ -24,6 +24,12 @@ build: configure
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS) --timeout 1500
+
+# Tidy habits, as CI checks them: every C++ file formatted as .clang-format says, and clang-tidy's
+# bug-finding checks (.clang-tidy) clean on every source of src/, warnings as errors.
+lint: configure
+	@bash scripts/check-format.sh
+	@bash scripts/run-clang-tidy.sh $(BUILD)
 
 # The demo needs only the program: building the tests too would double its time.
 demo: configure
