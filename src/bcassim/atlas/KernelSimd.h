@@ -92,6 +92,8 @@ inline Isa bestIsa() {
 
 // Defines NAME(args) dispatching to NAME##Body<W>(args) compiled for SSE (W = 2), AVX2+FMA (4)
 // and AVX-512 (8). BODY must be an always_inline template on int W.
+// PARAMS and ARGS are parenthesised lists spliced after a name: they cannot take parentheses.
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #if defined(__x86_64__) && defined(__GNUC__)
 #define BCASSIM_SIMD_DISPATCH(NAME, BODY, PARAMS, ARGS)                                \
   static void NAME##Sse PARAMS { BODY<2> ARGS; }                                       \
@@ -113,3 +115,4 @@ inline Isa bestIsa() {
 #define BCASSIM_SIMD_DISPATCH(NAME, BODY, PARAMS, ARGS) \
   static void NAME PARAMS { BODY<2> ARGS; }
 #endif
+// NOLINTEND(bugprone-macro-parentheses)

@@ -22,11 +22,8 @@ void keepCsvRowsUpTo(const std::string& path, double limit) {
     char* end = nullptr;
     const double first = std::strtod(begin, &end);
     const bool numeric = end != begin && (*end == ',' || *end == '\0');
-    if (!numeric) {
-      kept << line << '\n';
-    } else if (complete && first <= limit) {
-      kept << line << '\n';
-    }
+    // Headers and comments stay; a row stays when it is whole and not after the limit.
+    if (!numeric || (complete && first <= limit)) kept << line << '\n';
   }
   const std::string temporary = path + ".tmp";
   {

@@ -339,6 +339,7 @@ std::vector<LiverMeshingOutcome> meshAllLivers(const std::string& dataDir,
   }
   std::sort(files.begin(), files.end());
   std::vector<LiverMeshingOutcome> outcomes;
+  outcomes.reserve(files.size() + 1);
   for (const fs::path& file : files) {
     outcomes.push_back(meshOne(file, "livers/" + file.filename().string(), options, false));
   }

@@ -252,6 +252,7 @@ TriMesh makeIcosphereSurface(double radius, int levels) {
   for (int level = 0; level < levels; ++level) {
     std::map<std::pair<int, int>, int> mid;
     std::vector<Eigen::RowVector3d> verts;
+    verts.reserve(static_cast<size_t>(V.rows() + 3 * F.rows()));
     for (int i = 0; i < V.rows(); ++i) verts.push_back(V.row(i));
     auto midpoint = [&](int a, int b) {
       const auto key = std::minmax(a, b);
