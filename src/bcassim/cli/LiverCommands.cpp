@@ -89,23 +89,23 @@ struct LiverArguments {
     app.add_option("--coarse-nodes", o.coarseNodes, "Estimation mesh nodes")->capture_default_str();
     app.add_option("--fine-nodes", o.fineNodes, "Ground-truth mesh nodes")->capture_default_str();
     app.add_option("--groups", o.groups, "Spring groups estimated (K)")->capture_default_str();
-    app.add_option("--dt", o.dt, "Time step, s")->capture_default_str();
+    app.add_option("--dt", o.dt, "Time step (s)")->capture_default_str();
     app.add_option("--steps", o.steps, "Time steps")->capture_default_str();
     app.add_option("--observed-steps", o.observedSteps, "Steps with observations, then free run")
         ->capture_default_str();
-    app.add_option("--noise", o.noise, "Observation noise standard deviation, m")
+    app.add_option("--noise", o.noise, "Observation noise standard deviation (m)")
         ->capture_default_str();
     app.add_option("--ligament-stiffness", o.ligamentStiffness,
-                   "Truth ligament stiffness per metre of curve, N/m per m")
+                   "Truth ligament stiffness per metre of curve (N/m per m)")
         ->capture_default_str();
     app.add_option("--right-force", o.rightLobeForce,
-                   "Peak downward force on the right lobe, N (0: from --lobe-displacement)")
+                   "Peak downward force on the right lobe (N; 0: from --lobe-displacement)")
         ->capture_default_str();
     app.add_option("--left-force", o.leftLobeForce,
-                   "Peak up/down force on the left lobe, N (0: from --lobe-displacement)")
+                   "Peak up/down force on the left lobe (N; 0: from --lobe-displacement)")
         ->capture_default_str();
     app.add_option("--lobe-displacement", o.lobeDisplacement,
-                   "Static displacement of each lobe without ligament that sizes the loads, m")
+                   "Static displacement of each lobe without ligament that sizes the loads (m)")
         ->capture_default_str();
     addThreadsOption(app, o.threads,
                      "the sigma points' forecasts (assimilation.threads of estimate.yaml)", true);
