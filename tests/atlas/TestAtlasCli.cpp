@@ -53,6 +53,11 @@ TEST(AtlasCli, DistancePrintsTheVarifoldDistanceAndBadInputIsOneLine) {
   bm.V *= 1e-3;
   const double expected = FaceKernelDistance(bm, 0.01, FaceKernelKind::Current).value(am.V, am.F);
   EXPECT_NEAR(std::stod(diff.out), expected, 1e-8 * expected);
+  // --threads caps the kernel sums' threads; each row is summed whole by one and the rows in order.
+  const CliRun oneThread =
+      runCli(dir, "atlas distance a.obj b.obj --sigma 0.01 --kernel current --threads 1");
+  ASSERT_EQ(oneThread.code, 0) << oneThread.err;
+  EXPECT_EQ(oneThread.out, diff.out);
   const CliRun bad = runCli(dir, "atlas distance a.obj missing.obj");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("missing.obj"), std::string::npos) << bad.err;

@@ -1,6 +1,7 @@
 // `bcassim assimilate` and `validate` as a user meets them: one-line located errors with exit
 // code 2 for a malformed assimilation section, a run's summary and files, and the validation
 // tracks written by `simulate`.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <string>
@@ -178,6 +179,49 @@ TEST(AssimilationCli, ValidationPointsNeedOneSource) {
   expectError(runBcassim(dir, "simulate scene.yaml --out out --quiet"),
               "scene.yaml:2: validation_points.nodes: expected 'all' (every mesh node), got "
               "'some'");
+}
+
+// A beam bent by a tip load: the truth with E = 5,000 Pa, the estimation starting from 4,000 Pa.
+std::string bentBeam(double youngModulus) {
+  return fmt::format(
+      "mesh: {{generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}}\n"
+      "material: {{model: stvk, young_modulus: {}, poisson_ratio: 0.3}}\n"
+      "fixed:\n  - region: {{box: {{min: [-1, -1, -1], max: [0.0001, 1, 1]}}}}\n"
+      "loads:\n  - region: {{box: {{min: [0.0999, -1, -1], max: [1, 1, 1]}}}}\n"
+      "    total_force: [0, 0, 0.002]\n"
+      "markers:\n  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
+      "time: {{dt: 0.05, steps: 6}}\n"
+      "output: {{pvd: false}}\n",
+      youngModulus);
+}
+
+TEST(AssimilationCli, ThreadsOverrideTheSceneAndLeaveTheEstimatesAlone) {
+  const auto dir = freshDir();
+  writeText(dir / "truth.yaml", bentBeam(5000));
+  writeText(dir / "estimate.yaml", bentBeam(4000) + "assimilation:\n  threads: 1\n" + kParameters +
+                                       "  observations: {tracks: truth/markers.csv}\n");
+  ASSERT_EQ(runBcassim(dir, "simulate truth.yaml --out truth -q").exitCode, 0);
+  const test::CliResult scene =
+      runBcassim(dir, "assimilate estimate.yaml --out scene -q --no-plots");
+  EXPECT_NE(scene.out.find(", filter roukf, 1 thread, 6 steps"), std::string::npos) << scene.out;
+  const test::CliResult one =
+      runBcassim(dir, "assimilate estimate.yaml --out one --threads 1 -q --no-plots");
+  const test::CliResult two =
+      runBcassim(dir, "assimilate estimate.yaml --out two --threads 2 -q --no-plots");
+  ASSERT_EQ(one.exitCode, 0) << one.err;
+  ASSERT_EQ(two.exitCode, 0) << two.err;
+  EXPECT_NE(one.out.find(", 1 thread (--threads; the scene says 1), "), std::string::npos)
+      << one.out;
+  EXPECT_NE(two.out.find(", 2 threads (--threads; the scene says 1), "), std::string::npos)
+      << two.out;
+  // The sigma points' forecasts are independent: how many threads run them changes nothing.
+  const std::string estimates = test::readText(dir / "one" / "estimates.csv");
+  EXPECT_EQ(estimates, test::readText(dir / "two" / "estimates.csv"));
+  EXPECT_EQ(test::readText(dir / "one" / "filter.csv"), test::readText(dir / "two" / "filter.csv"));
+  // ... and the filter did its work: the last estimate is the truth's modulus.
+  const std::string last = estimates.substr(estimates.rfind('\n', estimates.size() - 2) + 1);
+  ASSERT_EQ(last.rfind("6,0.3,E_0,", 0), 0u) << last;
+  EXPECT_NEAR(std::stod(last.substr(10)), 5000.0, 50.0) << last;
 }
 
 }  // namespace

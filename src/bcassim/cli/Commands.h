@@ -1,0 +1,27 @@
+// The commands of the bcassim executable, one maker each; the classes live in the .cpp file
+// named beside each maker, and Cli.cpp lists them all in one place.
+#pragma once
+#include <memory>
+
+#include "bcassim/cli/Command.h"
+
+namespace bcassim {
+
+// SimulateCommand.cpp
+std::unique_ptr<Command> makeSimulateCommand();
+// AssimilateCommand.cpp
+std::unique_ptr<Command> makeAssimilateCommand();
+std::unique_ptr<Command> makeValidateCommand();
+// MeshInfoCommand.cpp
+std::unique_ptr<Command> makeMeshInfoCommand();
+// LiverCommands.cpp
+std::unique_ptr<Command> makeLiverPrepareCommand();
+std::unique_ptr<Command> makeLiverRunCommand();
+// AtlasCommands.cpp
+std::unique_ptr<Command> makeAtlasDistanceCommand();
+std::unique_ptr<Command> makeAtlasRegisterCommand();
+std::unique_ptr<Command> makeAtlasBuildCommand();
+std::unique_ptr<Command> makeAtlasTransferCommand();
+std::unique_ptr<Command> makeAtlasLooCommand();
+
+}  // namespace bcassim

@@ -1,0 +1,136 @@
+// Every bcassim command as --help shows it: the shared options (--out, --resume, -q, --threads)
+// with one name and one wording wherever they appear, and argument errors as one line, exit 2.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "support/TestFiles.h"
+
+namespace bcassim {
+namespace {
+
+using test::freshDir;
+using test::runBcassim;
+
+// The help of SharedOptions.cpp, which every command shares.
+const char* kOutHelp = "Output directory (created if missing)";
+const char* kResumeHelp = "Continue a stopped run in --out from ";
+const char* kQuietHelp = "No progress bars on stderr (results still printed)";
+const char* kThreadsHelp = "Threads for ";
+
+struct CommandOptions {
+  std::string command;
+  bool out, resume, quiet, threads;
+};
+
+// Which shared options each command has: --resume where a run can continue, -q where a progress
+// bar is drawn, --threads where work runs in parallel (docs/architecture.md).
+const std::vector<CommandOptions> kCommands = {
+    {"simulate", true, true, true, false},         {"assimilate", true, true, true, true},
+    {"validate", true, false, true, false},        {"mesh info", false, false, false, false},
+    {"atlas distance", false, false, false, true}, {"atlas register", true, false, false, true},
+    {"atlas build", true, false, false, true},     {"atlas transfer", true, false, false, true},
+    {"atlas loo", true, false, false, true},       {"liver prepare", true, false, false, true},
+    {"liver run", true, true, true, true},
+};
+
+bool has(const std::string& text, const std::string& what) {
+  return text.find(what) != std::string::npos;
+}
+
+TEST(CommandOptions, EveryHelpListsTheSharedOptionsWithOneWording) {
+  const auto dir = freshDir();
+  for (const CommandOptions& c : kCommands) {
+    SCOPED_TRACE(c.command);
+    const test::CliResult r = runBcassim(dir, c.command + " --help");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_EQ(has(r.out, "-o,--out"), c.out) << r.out;
+    EXPECT_EQ(has(r.out, kOutHelp), c.out) << r.out;
+    EXPECT_EQ(has(r.out, "--resume"), c.resume) << r.out;
+    EXPECT_EQ(has(r.out, kResumeHelp), c.resume) << r.out;
+    EXPECT_EQ(has(r.out, "-q,--quiet"), c.quiet) << r.out;
+    EXPECT_EQ(has(r.out, kQuietHelp), c.quiet) << r.out;
+    EXPECT_EQ(has(r.out, "--threads"), c.threads) << r.out;
+    EXPECT_EQ(has(r.out, kThreadsHelp), c.threads) << r.out;
+  }
+}
+
+TEST(CommandOptions, OutShowsItsDefault) {
+  const auto dir = freshDir();
+  EXPECT_TRUE(has(runBcassim(dir, "simulate --help").out, "-o,--out TEXT=out "));
+  EXPECT_TRUE(has(runBcassim(dir, "liver run --help").out, "-o,--out TEXT=out/liver "));
+  EXPECT_TRUE(has(runBcassim(dir, "atlas build --help").out, "-o,--out TEXT=out/atlas "));
+}
+
+TEST(CommandOptions, TopLevelHelpListsEveryGroup) {
+  const auto dir = freshDir();
+  const test::CliResult r = runBcassim(dir, "--help");
+  EXPECT_EQ(r.exitCode, 0);
+  for (const char* name : {"simulate", "assimilate", "validate", "mesh", "atlas", "liver"})
+    EXPECT_TRUE(has(r.out, name)) << name;
+}
+
+TEST(CommandOptions, UnknownOptionIsOneLineAndExit2) {
+  const auto dir = freshDir();
+  for (const char* command : {"simulate scene.yaml", "atlas build livers", "liver run phantom"}) {
+    SCOPED_TRACE(command);
+    const test::CliResult r = runBcassim(dir, std::string(command) + " --no-such-option");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(test::countLines(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("bcassim: error: ", 0), 0u) << r.err;
+    EXPECT_TRUE(has(r.err, "--no-such-option")) << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+}
+
+TEST(CommandOptions, GroupWithoutCommandIsOneLineAndExit2) {
+  const auto dir = freshDir();
+  for (const char* group : {"mesh", "atlas", "liver"}) {
+    const test::CliResult r = runBcassim(dir, group);
+    EXPECT_EQ(r.exitCode, 2) << group;
+    EXPECT_EQ(test::countLines(r.err), 1) << r.err;
+  }
+}
+
+// The value of --threads: the one line naming it, exit 2.
+void expectThreadsRefused(const std::string& command, const std::string& value) {
+  for (const char* separator : {"=", " "}) {
+    const std::string args = command + " --threads" + separator + value;
+    SCOPED_TRACE(args);
+    const test::CliResult r = runBcassim(freshDir(), args);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, "bcassim: error: --threads: expected a whole number of threads >= 1, got '" +
+                         value + "' (see 'bcassim --help')\n");
+    EXPECT_EQ(r.out, "");
+  }
+}
+
+TEST(CommandOptions, ThreadsBelowOneIsAnArgumentErrorNamingThreads) {
+  for (const char* value : {"0", "-2", "two", "1.5"})
+    expectThreadsRefused("assimilate s.yaml", value);
+  for (const char* command : {"liver run phantom", "liver prepare phantom", "atlas build livers",
+                              "atlas distance a.obj b.obj"})
+    expectThreadsRefused(command, "0");
+}
+
+// A file that is not there: the command's one-line message naming it, exit 2, nothing on stdout.
+void expectMissingFile(const std::string& args, const std::string& message) {
+  SCOPED_TRACE(args);
+  const test::CliResult r = runBcassim(freshDir(), args);
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err, "bcassim: error: " + message + "\n");
+  EXPECT_EQ(r.out, "");
+}
+
+TEST(CommandOptions, MissingInputFileIsOneLineNamingIt) {
+  expectMissingFile("assimilate none.yaml", "none.yaml: cannot open file");
+  expectMissingFile("validate none.yaml --estimates e.csv", "none.yaml: cannot open file");
+  const char* noSurface = ": no such file (expected a triangle surface .obj/.stl/.vtk/.vtp)";
+  expectMissingFile("atlas distance none.obj b.obj", std::string("none.obj") + noSurface);
+  expectMissingFile("atlas register none.obj b.obj --out o", std::string("none.obj") + noSurface);
+}
+
+}  // namespace
+}  // namespace bcassim
