@@ -55,8 +55,11 @@ void expectConsistent(const Eigen::MatrixXd& cost, const Assignment& a) {
     EXPECT_NE(cost(i, j), kForbidden) << "forbidden pair (" << i << ", " << j << ") used";
     sum += cost(i, j);
   }
-  for (int j = 0; j < cost.cols(); ++j)
-    if (a.rowOfColumn[j] >= 0) EXPECT_EQ(a.columnOfRow[a.rowOfColumn[j]], j);
+  for (int j = 0; j < cost.cols(); ++j) {
+    if (a.rowOfColumn[j] >= 0) {
+      EXPECT_EQ(a.columnOfRow[a.rowOfColumn[j]], j);
+    }
+  }
   EXPECT_NEAR(a.cost, sum, 1e-12 * (1.0 + std::abs(sum)));
 }
 
@@ -142,12 +145,17 @@ TEST(GreedyAssignment, TakesTheSmallestFirstAndCanBeBeaten) {
       for (int j = 0; j < 6; ++j) c(i, j) = value(rng) < 0.3 ? kForbidden : value(rng);
     const Assignment greedy = solveGreedyAssignment(c), optimal = solveOptimalAssignment(c);
     expectConsistent(c, greedy);
-    for (int i = 0; i < 5; ++i)
-      for (int j = 0; j < 6; ++j)
-        if (c(i, j) != kForbidden)
+    for (int i = 0; i < 5; ++i) {
+      for (int j = 0; j < 6; ++j) {
+        if (c(i, j) != kForbidden) {
           EXPECT_TRUE(greedy.columnOfRow[i] >= 0 || greedy.rowOfColumn[j] >= 0);
+        }
+      }
+    }
     EXPECT_LE(greedy.numPairs(), optimal.numPairs());
-    if (greedy.numPairs() == optimal.numPairs()) EXPECT_GE(greedy.cost, optimal.cost - 1e-12);
+    if (greedy.numPairs() == optimal.numPairs()) {
+      EXPECT_GE(greedy.cost, optimal.cost - 1e-12);
+    }
   }
 }
 
