@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "bcassim/Error.h"
@@ -122,8 +123,8 @@ Pairs findPairs(const Eigen::MatrixX3d& moved, const PlaneTarget& target,
     p.distances[i] = sp.distance;
   }
   p.median = medianOf(std::vector<double>(p.distances.begin(), p.distances.end()));
-  const double limit =
-      o.medianFactor > 0.0 ? std::max(o.medianFactor * p.median, o.minThreshold) : INFINITY;
+  const double limit = o.medianFactor > 0.0 ? std::max(o.medianFactor * p.median, o.minThreshold)
+                                            : std::numeric_limits<double>::infinity();
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(),
@@ -160,10 +161,10 @@ RigidTransform pointToPlaneStep(const Eigen::MatrixX3d& moved, const Pairs& pair
     A.selfadjointView<Eigen::Lower>().rankUpdate(J);
     b -= J * (m - q).dot(n);
   }
-  A = A.selfadjointView<Eigen::Lower>();
+  Eigen::Matrix<double, 6, 6> normal = A.selfadjointView<Eigen::Lower>();
   // A tiny ridge keeps directions the view cannot see (e.g. sliding along a flat patch) at rest.
-  A.diagonal().array() += 1e-12 * A.trace() + 1e-300;
-  const Eigen::Matrix<double, 6, 1> x = A.ldlt().solve(b);
+  normal.diagonal().array() += 1e-12 * normal.trace() + 1e-300;
+  const Eigen::Matrix<double, 6, 1> x = normal.ldlt().solve(b);
   const Vec3 w = x.head<3>() / scale, t = x.tail<3>();
   RigidTransform step;
   const double angle = w.norm();
