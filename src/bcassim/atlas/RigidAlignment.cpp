@@ -4,7 +4,6 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,28 +11,12 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/mesh/ClosestPoint.h"
+#include "bcassim/mesh/PointSetAlignment.h"
 
 namespace bcassim {
 
-Eigen::MatrixX3d RigidTransform::apply(const Eigen::MatrixX3d& P) const {
-  return (P * rotation.transpose()).rowwise() + translation.transpose();
-}
-
 RigidTransform procrustes(const Eigen::MatrixX3d& P, const Eigen::MatrixX3d& Q) {
-  if (P.rows() != Q.rows() || P.rows() < 3) {
-    throw InputError(fmt::format("Procrustes needs two equal sets of >= 3 points, got {} and {}",
-                                 P.rows(), Q.rows()));
-  }
-  const Eigen::RowVector3d cp = P.colwise().mean(), cq = Q.colwise().mean();
-  const Eigen::Matrix3d H = (P.rowwise() - cp).transpose() * (Q.rowwise() - cq);
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  // The sign fix keeps a rotation where the best orthogonal map would be a reflection.
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
-  RigidTransform t;
-  t.rotation = svd.matrixV() * D * svd.matrixU().transpose();
-  t.translation = cq.transpose() - t.rotation * cp.transpose();
-  return t;
+  return kabschFit(P, Q);
 }
 
 namespace {

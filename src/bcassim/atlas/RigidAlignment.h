@@ -3,18 +3,13 @@
 #pragma once
 #include <Eigen/Core>
 
+#include "bcassim/mesh/RigidTransform.h"
 #include "bcassim/mesh/TriMesh.h"
 
 namespace bcassim {
 
-struct RigidTransform {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();  // m
-  // Rows of P (#P by 3) mapped: R p + t.
-  Eigen::MatrixX3d apply(const Eigen::MatrixX3d& P) const;
-};
-
-// Rotation (det +1) and translation minimising sum |R p_i + t - q_i|^2 (Kabsch). P, Q: #P by 3,
+// Rotation (det +1) and translation minimising sum |R p_i + t - q_i|^2: kabschFit() of
+// mesh/PointSetAlignment.h with equal weights, under the name the atlas code uses. P, Q: #P by 3,
 // #P >= 3. Throws InputError on mismatched or too few rows.
 RigidTransform procrustes(const Eigen::MatrixX3d& P, const Eigen::MatrixX3d& Q);
 

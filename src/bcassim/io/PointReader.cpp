@@ -7,9 +7,14 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <cmath>
+#include <string_view>
+#include <vector>
+
 #include "bcassim/Error.h"
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/Files.h"
+#include "bcassim/io/NpyReader.h"
 #include "bcassim/io/TextLines.h"
 #include "bcassim/io/VtkSupport.h"
 
@@ -53,17 +58,58 @@ Eigen::MatrixX3d readCsvPoints(const std::string& path) {
   return V;
 }
 
+Eigen::MatrixX3d readTextPoints(const std::string& path) {
+  io::TextLines in(path);
+  std::vector<double> values;
+  constexpr const char* kAxes[3] = {"x", "y", "z"};
+  while (in.next()) {
+    std::string_view line = in.line();
+    line = line.substr(0, line.find('#'));
+    const auto fields = io::splitBlanks(line);
+    if (fields.empty()) continue;
+    if (fields.size() != 3)
+      in.fail(fmt::format("expected 3 numbers (x y z), got {} fields", fields.size()));
+    for (int k = 0; k < 3; ++k) {
+      double v = 0.0;
+      if (!io::parseDouble(fields[k], v) || !std::isfinite(v))
+        in.fail(fmt::format("field {} is not a finite number ('{}')", kAxes[k],
+                            io::excerpt(fields[k])));
+      values.push_back(v);
+    }
+  }
+  if (values.empty())
+    throw InputError(fmt::format("{}: no points; expected lines of x y z (m)", path));
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+      values.data(), static_cast<Eigen::Index>(values.size() / 3), 3);
+}
+
+Eigen::MatrixX3d readNpyPoints(const std::string& path) {
+  const NpyArray array = readNpy(path);
+  if (array.shape.size() != 2 || array.shape[1] != 3 || array.shape[0] < 1)
+    throw InputError(fmt::format("{}: array of shape {}; expected (N, 3) points with N >= 1", path,
+                                 formatNpyShape(array.shape)));
+  if (array.dtype == "|b1")
+    throw InputError(fmt::format("{}: dtype '|b1' (bool); expected coordinates as numbers", path));
+  Eigen::MatrixX3d V = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+      array.values.data(), array.shape[0], 3);
+  io::requireFinitePoints(V, path);
+  return V;
+}
+
 }  // namespace
 
 Eigen::MatrixX3d readPoints(const std::string& path) {
   const std::string ext = io::lowerExtension(path);
-  if (ext != ".vtk" && ext != ".vtu" && ext != ".vtp" && ext != ".csv")
+  if (ext != ".vtk" && ext != ".vtu" && ext != ".vtp" && ext != ".csv" && ext != ".txt" &&
+      ext != ".npy")
     throw InputError(
         fmt::format("{}: unsupported point set format '{}'; expected .vtk, .vtu, "
-                    ".vtp or .csv",
+                    ".vtp, .csv, .txt or .npy",
                     path, ext));
   io::requireReadableFile(path);
   if (ext == ".csv") return readCsvPoints(path);
+  if (ext == ".txt") return readTextPoints(path);
+  if (ext == ".npy") return readNpyPoints(path);
   if (ext == ".vtu") return readVtkPoints<vtkXMLUnstructuredGridReader>(path);
   if (ext == ".vtp") return readVtkPoints<vtkXMLPolyDataReader>(path);
   return readVtkPoints<vtkDataSetReader>(path, true);

@@ -1,0 +1,242 @@
+#include "bcassim/tracking/SurfaceRegistration.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "bcassim/Error.h"
+#include "bcassim/mesh/ClosestPoint.h"
+#include "bcassim/tracking/PointCloudUnits.h"
+
+namespace bcassim {
+
+std::vector<Eigen::Matrix3d> defaultStartRotations() {
+  std::vector<Eigen::Matrix3d> rotations{Eigen::Matrix3d::Identity()};
+  for (const double degrees : {45.0, 90.0})
+    for (int axis = 0; axis < 3; ++axis)
+      for (const double sign : {1.0, -1.0})
+        rotations.push_back(
+            Eigen::AngleAxisd(sign * degrees * std::numbers::pi / 180.0, Vec3::Unit(axis))
+                .toRotationMatrix());
+  return rotations;
+}
+
+namespace {
+
+void requireInputs(const Eigen::MatrixX3d& points, const TriMesh& surface,
+                   const SurfaceRegistrationOptions& o) {
+  if (points.rows() < 6)
+    throw InputError(
+        fmt::format("point cloud of {} points; expected at least 6 to register it "
+                    "rigidly to a surface",
+                    points.rows()));
+  for (Eigen::Index i = 0; i < points.rows(); ++i)
+    if (!points.row(i).allFinite())
+      throw InputError(
+          fmt::format("point cloud point {} has a non-finite coordinate; expected "
+                      "finite coordinates (m)",
+                      i));
+  if (surface.F.rows() == 0)
+    throw InputError("surface without triangles; expected a triangle surface to register to");
+  if (!(o.keepFraction > 0.0 && o.keepFraction <= 1.0))
+    throw InputError(
+        fmt::format("registration keepFraction {}; expected a fraction in (0, 1]", o.keepFraction));
+  if (!(o.medianFactor >= 0.0) || !(o.minThreshold >= 0.0) || !(o.tolerance >= 0.0))
+    throw InputError(
+        fmt::format("registration medianFactor {}, minThreshold {} m, tolerance {} m; "
+                    "expected numbers >= 0",
+                    o.medianFactor, o.minThreshold, o.tolerance));
+  if (o.startRotations.empty())
+    throw InputError("registration without start rotations; expected at least one (the identity)");
+  if (o.probeIterations < 1 || o.maxIterations < 1)
+    throw InputError(
+        fmt::format("registration probeIterations {}, maxIterations {}; expected at "
+                    "least 1 each",
+                    o.probeIterations, o.maxIterations));
+}
+
+// The surface with what point-to-plane ICP needs of it: the AABB tree, and normals that vary
+// continuously over the surface (area-weighted vertex normals, interpolated), so that the
+// tangent plane does not jump when a noisy point's closest point crosses an edge.
+struct PlaneTarget {
+  SurfaceLocator locator;
+  Eigen::MatrixX3i faces;
+  Eigen::MatrixX3d vertexNormals;
+
+  explicit PlaneTarget(const TriMesh& s)
+      : locator(s), faces(s.F), vertexNormals(Eigen::MatrixX3d::Zero(s.V.rows(), 3)) {
+    for (Eigen::Index f = 0; f < s.F.rows(); ++f) {
+      const Vec3 a = s.V.row(s.F(f, 0)), b = s.V.row(s.F(f, 1)), c = s.V.row(s.F(f, 2));
+      const Vec3 n = (b - a).cross(c - a);  // twice the area times the unit normal
+      for (int k = 0; k < 3; ++k) vertexNormals.row(s.F(f, k)) += n.transpose();
+    }
+    for (Eigen::Index v = 0; v < vertexNormals.rows(); ++v) {
+      const double length = vertexNormals.row(v).norm();
+      if (length > 0.0) vertexNormals.row(v) /= length;
+    }
+  }
+
+  // Unit normal at a closest point (zero where the surface has none, e.g. a needle face).
+  Vec3 normalAt(const SurfacePoint& sp) const {
+    Vec3 n = Vec3::Zero();
+    for (int k = 0; k < 3; ++k)
+      n += sp.barycentric[k] * vertexNormals.row(faces(sp.face, k)).transpose();
+    const double length = n.norm();
+    return length > 0.0 ? Vec3(n / length) : Vec3::Zero();
+  }
+};
+
+// Closest points of the moved cloud and which of them the trimming keeps.
+struct Pairs {
+  Eigen::MatrixX3d closest, normals;
+  Eigen::VectorXd distances;
+  std::vector<int> kept;
+  double median = 0.0;  // over all points, m
+  double rms = 0.0;     // over the kept points, m
+};
+
+double medianOf(std::vector<double> values) {
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  double m = values[mid];
+  if (values.size() % 2 == 0)
+    m = 0.5 * (m + *std::max_element(values.begin(), values.begin() + mid));
+  return m;
+}
+
+Pairs findPairs(const Eigen::MatrixX3d& moved, const PlaneTarget& target,
+                const SurfaceRegistrationOptions& o) {
+  const Eigen::Index n = moved.rows();
+  Pairs p;
+  p.closest.resize(n, 3);
+  p.normals.resize(n, 3);
+  p.distances.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const SurfacePoint sp = target.locator.closest(moved.row(i).transpose());
+    p.closest.row(i) = sp.point.transpose();
+    p.normals.row(i) = target.normalAt(sp).transpose();
+    p.distances[i] = sp.distance;
+  }
+  p.median = medianOf(std::vector<double>(p.distances.begin(), p.distances.end()));
+  const double limit = o.medianFactor > 0.0 ? std::max(o.medianFactor * p.median, o.minThreshold)
+                                            : std::numeric_limits<double>::infinity();
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return p.distances[a] < p.distances[b]; });
+  const auto maxKept = static_cast<size_t>(std::max(1.0, std::floor(o.keepFraction * n)));
+  double sum2 = 0.0;
+  for (int i : order) {
+    if (p.kept.size() >= maxKept || p.distances[i] > limit) break;
+    p.kept.push_back(i);
+    sum2 += p.distances[i] * p.distances[i];
+  }
+  p.rms = p.kept.empty() ? 0.0 : std::sqrt(sum2 / static_cast<double>(p.kept.size()));
+  return p;
+}
+
+// One Gauss-Newton step of point-to-plane ICP: the small rotation w (about the kept points'
+// centroid c) and translation t minimising sum ((m_i - q_i).n_i + ((m_i - c) x n_i).w + n_i.t)^2.
+// Returns the step as a rigid transform and the largest distance it moves a kept point (m).
+RigidTransform pointToPlaneStep(const Eigen::MatrixX3d& moved, const Pairs& pairs,
+                                double& largestMove) {
+  Vec3 c = Vec3::Zero();
+  for (int i : pairs.kept) c += moved.row(i).transpose();
+  c /= static_cast<double>(pairs.kept.size());
+  double radius = 0.0;
+  for (int i : pairs.kept) radius = std::max(radius, (moved.row(i).transpose() - c).norm());
+  const double scale = radius > 0.0 ? radius : 1.0;  // rotation unknowns in metres: balanced
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int i : pairs.kept) {
+    const Vec3 m = moved.row(i).transpose(), q = pairs.closest.row(i).transpose();
+    const Vec3 n = pairs.normals.row(i).transpose();
+    Eigen::Matrix<double, 6, 1> J;
+    J << (m - c).cross(n) / scale, n;
+    A.selfadjointView<Eigen::Lower>().rankUpdate(J);
+    b -= J * (m - q).dot(n);
+  }
+  Eigen::Matrix<double, 6, 6> normal = A.selfadjointView<Eigen::Lower>();
+  // A tiny ridge keeps directions the view cannot see (e.g. sliding along a flat patch) at rest.
+  normal.diagonal().array() += 1e-12 * normal.trace() + 1e-300;
+  const Eigen::Matrix<double, 6, 1> x = normal.ldlt().solve(b);
+  const Vec3 w = x.head<3>() / scale, t = x.tail<3>();
+  RigidTransform step;
+  const double angle = w.norm();
+  if (angle > 0.0) step.rotation = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+  step.translation = c - step.rotation * c + t;
+  largestMove = angle * radius + t.norm();
+  return step;
+}
+
+struct IcpRun {
+  RigidTransform transform;
+  Pairs pairs;  // at `transform`
+  int iterations = 0;
+};
+
+IcpRun runIcp(const Eigen::MatrixX3d& points, const PlaneTarget& target, RigidTransform transform,
+              int maxIterations, const SurfaceRegistrationOptions& o) {
+  IcpRun run;
+  Eigen::MatrixX3d moved = transform.apply(points), movedBefore = moved;
+  run.pairs = findPairs(moved, target, o);
+  for (int it = 0; it < maxIterations; ++it) {
+    if (run.pairs.kept.size() < 3) break;
+    double largestMove = 0.0;
+    const RigidTransform step = pointToPlaneStep(moved, run.pairs, largestMove);
+    transform = compose(step, transform);
+    // A point at the trimming limit can drop out and in again on alternate iterations: back
+    // within the tolerance of the pose two iterations ago is converged too.
+    Eigen::MatrixX3d movedNow = transform.apply(points);
+    const double cycle = (movedNow - movedBefore).rowwise().norm().maxCoeff();
+    movedBefore = std::move(moved);
+    moved = std::move(movedNow);
+    run.pairs = findPairs(moved, target, o);
+    run.iterations = it + 1;
+    if (largestMove <= o.tolerance || (it > 0 && cycle <= o.tolerance)) break;
+  }
+  run.transform = transform;
+  return run;
+}
+
+}  // namespace
+
+SurfaceRegistration registerPointsToSurface(const Eigen::MatrixX3d& points, const TriMesh& surface,
+                                            const SurfaceRegistrationOptions& options) {
+  requireInputs(points, surface, options);
+  requireMatchingUnits(points, surface);
+  const PlaneTarget target(surface);
+  const Vec3 centre = options.initial.apply(points).colwise().mean().transpose();
+  std::vector<RigidTransform> starts;
+  for (const Eigen::Matrix3d& R : options.startRotations) {
+    RigidTransform about;  // rotation R about the centre of the initially moved points
+    about.rotation = R;
+    about.translation = centre - R * centre;
+    starts.push_back(compose(about, options.initial));
+  }
+  int best = 0;
+  IcpRun bestRun;
+  for (int k = 0; k < static_cast<int>(starts.size()); ++k) {
+    IcpRun run = runIcp(points, target, starts[k], options.probeIterations, options);
+    if (k == 0 || run.pairs.median < bestRun.pairs.median) {
+      best = k;
+      bestRun = std::move(run);
+    }
+  }
+  const IcpRun refined = runIcp(points, target, bestRun.transform, options.maxIterations, options);
+  SurfaceRegistration result;
+  result.transform = refined.transform;
+  result.rms = refined.pairs.rms;
+  result.overlap =
+      static_cast<double>(refined.pairs.kept.size()) / static_cast<double>(points.rows());
+  result.iterations = refined.iterations;
+  result.start = best;
+  return result;
+}
+
+}  // namespace bcassim
