@@ -37,7 +37,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The scene's assimilation settings, once checked against what the runner needs.
+// The scene's assimilation settings, once checked against what the runner needs. The YAML
+// loader refuses the same combinations with the file's line; scenes built in code meet them here.
 const AssimilationSettings& settingsOf(const Scene& scene) {
   if (!scene.assimilation)
     throw InputError(scene.sourceFile + ": the scene has no assimilation: section");
@@ -46,6 +47,14 @@ const AssimilationSettings& settingsOf(const Scene& scene) {
                      ": integrator.type: assimilation needs implicit-euler (the filter steps in "
                      "time)");
   const AssimilationSettings& s = *scene.assimilation;
+  if (s.meanTangent && !s.reuseFactorization)
+    throw InputError(scene.sourceFile +
+                     ": assimilation.reuse_factorization: false does not go with tangent: mean "
+                     "(every sigma point steps with the mean's one factorisation)");
+  if (s.reuseFactorization && !s.meanTangent && scene.solver.type != "factorized-pcg")
+    throw InputError(fmt::format(
+        "{}: assimilation.reuse_factorization: needs solver.type factorized-pcg, got {}",
+        scene.sourceFile, scene.solver.type));
   if (!scene.hidden.points.empty() && !s.carryPositions)
     throw InputError(scene.sourceFile +
                      ": hidden_points: needs assimilation.state.positions: true (their "
@@ -183,12 +192,13 @@ struct AssimilationSetup {
   std::unique_ptr<Filter> filter;
 };
 
-// With reuse_factorization worker 0 factorises and the others precondition with it.
+// The forecast models solve with the scene's solver; with reuse_factorization (factorized-pcg,
+// see settingsOf) worker 0 factorises and the others precondition with its factor.
 ForecastModelOptions forecastOptions(const Scene& scene) {
   const AssimilationSettings& s = *scene.assimilation;
   ForecastModelOptions options;
   options.layout = {s.carryPositions, s.carryVelocities};
-  options.solver = s.reuseFactorization ? "factorized-pcg" : scene.solver.type;
+  options.solver = scene.solver.type;
   options.refresh = scene.solver.policy;
   options.shareFactorization = s.reuseFactorization;
   options.meanTangent = s.meanTangent;

@@ -42,6 +42,22 @@ namespace yamlio {
 
 namespace {
 
+const std::vector<std::string> kAssimilationKeys = {"filter",
+                                                    "sigma_points",
+                                                    "sigma_spread",
+                                                    "members",
+                                                    "inflation",
+                                                    "seed",
+                                                    "threads",
+                                                    "state",
+                                                    "reuse_factorization",
+                                                    "tangent",
+                                                    "tangent_refresh_every",
+                                                    "tangent_background",
+                                                    "parameters",
+                                                    "observations",
+                                                    "validation"};
+
 std::string indexed(const std::string& path, size_t i) {
   return path + "[" + std::to_string(i) + "]";
 }
@@ -166,12 +182,15 @@ TrackFrames readFrames(const YamlSource& src, const MapReader& r, const std::str
 
 }  // namespace
 
+bool sharesSolverFactorization(const YamlSource& src, const YAML::Node& node) {
+  const MapReader r(src, node, "assimilation", kAssimilationKeys);
+  return r.boolean("reuse_factorization", true) &&
+         r.choice("tangent", "own", {"own", "mean"}) == "own";
+}
+
 AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML::Node& node,
                                               const AssimilationContext& c) {
-  MapReader r(src, node, "assimilation",
-              {"filter", "sigma_points", "sigma_spread", "members", "inflation", "seed", "threads",
-               "state", "reuse_factorization", "tangent", "tangent_refresh_every",
-               "tangent_background", "parameters", "observations", "validation"});
+  MapReader r(src, node, "assimilation", kAssimilationKeys);
   AssimilationSettings s;
   const std::string filter = r.choice("filter", "roukf", {"ukf", "roukf", "etkf"});
   s.filter = filter == "ukf"     ? FilterKind::Ukf
@@ -209,6 +228,16 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.tangentInBackground = r.boolean("tangent_background", false);
   r.rejectUnless(s.meanTangent, "tangent_refresh_every", "tangent: mean");
   r.rejectUnless(s.meanTangent, "tangent_background", "tangent: mean");
+  if (s.meanTangent && !s.reuseFactorization)
+    r.fail("reuse_factorization",
+           "false does not go with tangent: mean (every sigma point steps with the mean's one "
+           "factorisation)");
+  if (s.reuseFactorization && !s.meanTangent && c.solverType != "factorized-pcg") {
+    const std::string what = "needs solver.type factorized-pcg, got " + c.solverType;
+    if (r.has("reuse_factorization")) r.fail("reuse_factorization", what);
+    failAt(src, node, r.pathOf("reuse_factorization"),
+           what + " (true by default; false solves every sigma point with " + c.solverType + ")");
+  }
 
   const auto entries = listElements(src, r.node("parameters"), r.pathOf("parameters"));
   if (entries.empty())

@@ -505,7 +505,17 @@ const std::vector<std::string> kSceneKeys = {
     "springs",       "control_points", "markers",        "output",  "variants", "validation_points",
     "hidden_points", "assimilation",   "mean_dilatation"};
 
-Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVariants) {
+// Whether the scene's assimilation section has its sigma points share one factorisation
+// (reuse_factorization): that needs factorized-pcg, then the default solver.type, for the base
+// and its variants alike (an explicit other type is refused with the section).
+bool sharesFactorization(const YamlSource& src, const YAML::Node& root) {
+  if (!root.IsMap() || !root["assimilation"].IsDefined()) return false;
+  return yamlio::sharesSolverFactorization(src, root["assimilation"]);
+}
+
+// `sharedFactorization`: see sharesFactorization (of the base scene, for a variant).
+Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVariants,
+                 bool sharedFactorization) {
   if (!root.IsDefined() || root.IsNull())
     failAt(src, root, "", "the scene is empty; expected a map of sections (mesh, material, ...)");
   MapReader top(src, root, "", kSceneKeys);
@@ -556,8 +566,8 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   MapReader solver(src, top.node("solver"), "solver",
                    {"type", "refresh_every", "max_iterations", "tolerance", "precision",
                     "refresh_in_background"});
-  scene.solver.type =
-      solver.choice("type", "cholmod", {"cholmod", "cg", "jacobi-pcg", "factorized-pcg"});
+  scene.solver.type = solver.choice("type", sharedFactorization ? "factorized-pcg" : "cholmod",
+                                    {"cholmod", "cg", "jacobi-pcg", "factorized-pcg"});
   scene.solver.policy.everyNMatrices = solver.integer("refresh_every", 0);
   scene.solver.policy.maxIterations = solver.integer("max_iterations", 20, Range::AtLeastOne);
   scene.solver.policy.relTol = solver.number("tolerance", 1e-10, "-", Range::Positive);
@@ -585,9 +595,12 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   scene.output.pvd = output.boolean("pvd", true);
   // Variants are forward runs only; their merged YAML leaves the section out.
   if (top.has("assimilation")) {
-    const AssimilationContext context{model, static_cast<int>(scene.markers.points.size()),
-                                      static_cast<int>(scene.validation.points.size()), scene.dt(),
-                                      scene.steps};
+    const AssimilationContext context{model,
+                                      static_cast<int>(scene.markers.points.size()),
+                                      static_cast<int>(scene.validation.points.size()),
+                                      scene.dt(),
+                                      scene.steps,
+                                      scene.solver.type};
     scene.assimilation = yamlio::readAssimilationSettings(src, top.node("assimilation"), context);
   }
   return scene;
@@ -615,7 +628,8 @@ YAML::Node parse(const std::string& yaml, const YamlSource& src) {
 
 Scene loadFromText(const std::string& yaml, const YamlSource& src) {
   const YAML::Node root = parse(yaml, src);
-  Scene scene = buildScene(src, root, true);
+  const bool sharedFactorization = sharesFactorization(src, root);
+  Scene scene = buildScene(src, root, true, sharedFactorization);
   if (!root.IsMap() || !root["variants"].IsDefined()) return scene;
   const auto variants = listElements(src, root["variants"], "variants");
   if (!variants.empty() && scene.markers.points.empty())
@@ -661,7 +675,7 @@ Scene loadFromText(const std::string& yaml, const YamlSource& src) {
       overrides[key] = kv.second;
     }
     mergeInto(merged, overrides);
-    Scene variant = buildScene(src, merged, false);
+    Scene variant = buildScene(src, merged, false, sharedFactorization);
     variant.name = name;
     if (variant.steps != scene.steps || variant.dt() != scene.dt())
       failAt(src, node, path, "a variant must keep the base's time.dt and time.steps");
