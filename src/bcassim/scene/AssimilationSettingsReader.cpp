@@ -8,6 +8,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/mechanics/FrozenTangent.h"
+#include "bcassim/scene/SceneBuilders.h"
 
 namespace bcassim {
 
@@ -119,20 +120,16 @@ EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
   if (r.has("young_modulus")) {
     MapReader t(src, r.node("young_modulus"), r.pathOf("young_modulus"),
                 {"region", "model", "poisson_ratio"});
-    const YoungModulusTarget target = readYoungTarget(src, t, model);
-    p.target = target;
-    p.name = "E_" + std::to_string(target.region);
+    p.target = readYoungTarget(src, t, model);
     unit = "Pa";
   } else {
     MapReader t(src, r.node("spring"), r.pathOf("spring"), {"group", "coefficient"});
     const SpringCoefficientTarget target = readSpringTarget(t, model);
     p.target = target;
-    const char* names[] = {"k_alpha", "k_beta", "k_gamma"};
     const char* units[] = {"N/m^3", "N/m^2", "N/m"};
-    p.name = std::string(names[target.coefficient]) + "_" + std::to_string(target.group);
     unit = units[target.coefficient];
   }
-  p.name = r.text("name", p.name);
+  p.name = r.text("name", defaultParameterName(p.target));
   if (p.name.empty() || p.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTU"
                                                  "VWXYZ0123456789_-.") != std::string::npos)
     r.fail("name",
@@ -173,10 +170,8 @@ TrackFrames readFrames(const YamlSource& src, const MapReader& r, const std::str
                        double offset) {
   const std::string file = r.existingFile(key);
   TrackFrames frames;
-  withContext(src, r.node(key), r.pathOf(key), [&] {
-    frames =
-        toStepFrames(readMarkerTracks(file), file, numPoints, pointsName, c.dt, c.steps, offset);
-  });
+  withContext(src, r.node(key), r.pathOf(key),
+              [&] { frames = readStepFrames(file, numPoints, pointsName, c.dt, c.steps, offset); });
   return frames;
 }
 

@@ -21,6 +21,7 @@
 #include "bcassim/scene/AssimilationSettingsReader.h"
 #include "bcassim/scene/NodePoints.h"
 #include "bcassim/scene/RegionReader.h"
+#include "bcassim/scene/SceneBuilders.h"
 #include "bcassim/scene/YamlReader.h"
 
 namespace bcassim {
@@ -242,15 +243,17 @@ std::vector<NodalLoad> readLoads(const YamlSource& src, const MapReader& top, co
       load.nodes = std::move(traction.nodes);
       load.weights = std::move(traction.shares);
       load.forcePerNode = r.vec3("total_force", Vec3::Zero(), "N");
-    } else {
+      load.profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
+    } else if (r.has("force_per_node")) {
       load.nodes = requiredRegion(src, r, mesh);
-      if (r.has("force_per_node"))
-        load.forcePerNode = r.vec3("force_per_node", Vec3::Zero(), "N");
-      else
-        load.forcePerNode =
-            r.vec3("total_force", Vec3::Zero(), "N") / static_cast<double>(load.nodes.size());
+      load.forcePerNode = r.vec3("force_per_node", Vec3::Zero(), "N");
+      load.profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
+    } else {
+      std::vector<int> nodes = requiredRegion(src, r, mesh);
+      const Vec3 total = r.vec3("total_force", Vec3::Zero(), "N");
+      const TimeProfile profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
+      load = evenNodalLoad(std::move(nodes), total, profile);
     }
-    load.profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
     loads.push_back(std::move(load));
   }
   return loads;
@@ -274,12 +277,11 @@ std::vector<CubicSpring> readLigament(const YamlSource& src, const MapReader& s,
   if (o.layers != 1 && o.layers != 2) r.fail("layers", "expected 1 or 2");
   o.layerOffset = r.number("layer_offset", o.layerOffset, "m", Range::NonNegative);
   o.smoothNormals = r.boolean("smooth_normals", true);
-  o.numGroups = static_cast<int>(groups.size());
-  o.coefficients = groups.front();
-  LigamentSprings built;
-  yamlio::withContext(src, r.node("curve"), r.pathOf("curve"),
-                      [&] { built = buildLigamentSprings(mesh, curve, o); });
-  return built.springs.springs();
+  std::vector<CubicSpring> springs;
+  yamlio::withContext(src, r.node("curve"), r.pathOf("curve"), [&] {
+    springs = ligamentSprings(mesh, curve, o, static_cast<int>(groups.size()));
+  });
+  return springs;
 }
 
 CubicSpringSet readSprings(const YamlSource& src, const MapReader& top, const TetMesh& mesh) {
@@ -362,18 +364,13 @@ Eigen::MatrixX3d readPointList(const YamlSource& src, const YAML::Node& node,
 // Mapped points and their rest positions from a region (nodes), a point list or a point file.
 MarkerSet readMappedPoints(const YamlSource& src, const MapReader& r, const std::string& path,
                            const TetMesh& mesh, bool allowFile, int count) {
-  MarkerSet set;
   Eigen::MatrixX3d P;
   if (r.has("region")) {
     std::vector<int> nodes = requiredRegion(src, r, mesh);
     if (count > 0) nodes = farthestPointSample(mesh, nodes, count);
-    const std::vector<int> tetOf = tetOfEachNode(mesh);
-    set.rest.resize(static_cast<Eigen::Index>(nodes.size()), 3);
-    for (size_t i = 0; i < nodes.size(); ++i) {
-      yamlio::withContext(src, r.node("region"), r.pathOf("region"),
-                          [&] { set.points.push_back(mappedNode(mesh, tetOf, nodes[i])); });
-      set.rest.row(i) = mesh.V.row(nodes[i]);
-    }
+    MarkerSet set;
+    yamlio::withContext(src, r.node("region"), r.pathOf("region"),
+                        [&] { set = nodePointSet(mesh, nodes); });
     return set;
   }
   if (r.has("points")) {
@@ -387,9 +384,7 @@ MarkerSet readMappedPoints(const YamlSource& src, const MapReader& r, const std:
            std::string("expected one of region, points") + (allowFile ? ", file" : ""));
   }
   // A point outside the mesh follows the closest point of the nearest tet (documented).
-  set.points = mapPoints(mesh, P);
-  set.rest = P;
-  return set;
+  return mappedPointSet(mesh, P);
 }
 
 MarkerSet readMarkers(const YamlSource& src, const MapReader& top, const TetMesh& mesh) {
@@ -432,13 +427,11 @@ MarkerSet readValidationPoints(const YamlSource& src, const MapReader& top, cons
   if (!r.has("nodes")) return readMappedPoints(src, r, path, mesh, true, r.integer("count", 0));
   if (r.text("nodes", "") != "all")
     r.fail("nodes", "expected 'all' (every mesh node), got " + yamlio::describe(r.node("nodes")));
-  const std::vector<int> tetOf = tetOfEachNode(mesh);
+  std::vector<int> all(static_cast<size_t>(mesh.numNodes()));
+  for (size_t n = 0; n < all.size(); ++n) all[n] = static_cast<int>(n);
   MarkerSet set;
-  set.rest = mesh.V;
-  for (Eigen::Index n = 0; n < mesh.numNodes(); ++n)
-    yamlio::withContext(src, r.node("nodes"), r.pathOf("nodes"), [&] {
-      set.points.push_back(mappedNode(mesh, tetOf, static_cast<int>(n)));
-    });
+  yamlio::withContext(src, r.node("nodes"), r.pathOf("nodes"),
+                      [&] { set = nodePointSet(mesh, all); });
   return set;
 }
 
