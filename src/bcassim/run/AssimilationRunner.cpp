@@ -461,8 +461,10 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
   const fs::path dir(outDir);
   createOutputDirectory(dir);
 
+  // 1. Set-up: forecast models, state layout, executor, filter.
   AssimilationSetup setup = setUp(scene);
 
+  // 2. Outputs opened and the initial state: the prior's step 0, or the checkpoint's step.
   // parameters.csv holds the prior until the run ends (then the final estimate).
   writeParameters(dir / "parameters.csv", initialParameters(s));
   std::optional<AssimilationCheckpoint> checkpoint;
@@ -474,6 +476,7 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
   FilterLoopState loop = checkpoint ? resumeFromCheckpoint(scene, setup, files, *checkpoint)
                                     : startFromPrior(scene, setup, files);
 
+  // 3. The filter loop.
   for (int step = loop.firstStep; step <= scene.steps; ++step) {
     const FilterStepReport report = filterStep(step, scene, setup, files, loop);
     if (progress)
@@ -481,6 +484,7 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
                           describeEstimate(loop.result.parameters)));
   }
 
+  // 4. Outputs: parameters.csv with the final estimate, errors_summary.csv, timings.
   return finishAssimilation(files, loop, started);
 }
 
