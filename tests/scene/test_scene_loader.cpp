@@ -335,5 +335,50 @@ TEST(SceneLoader, ErrorsNameLineKeyAndExpectation) {
       "scene.yaml:4: variants[0]: a variant must keep the base's time.dt and time.steps");
 }
 
+// An assimilation whose sigma points share worker 0's factorisation (reuse_factorization, true
+// by default, with tangent: own) solves with factorized-pcg: it is the default solver then, and
+// another solver.type is refused rather than swapped for it.
+TEST(SceneLoader, SharedFactorizationNeedsFactorizedPcg) {
+  const auto dir = freshDir();
+  writeText(dir / "tracks.csv", "time,marker,x,y,z\n0,0,0.05,0.01,0.01\n");
+  const std::string base = std::string(kBox) + "markers: [{points: [[0.05, 0.01, 0.01]]}]\n";
+  auto assimilation = [](const std::string& keys) {
+    return "assimilation:\n" + keys +
+           "  parameters: [{young_modulus: {region: 0}, mean: 8000, stddev: 1000}]\n"
+           "  observations: {tracks: tracks.csv}\n";
+  };
+  auto solverOf = [&](const std::string& yaml) { return load(yaml, dir.string()).solver.type; };
+  EXPECT_EQ(solverOf(base), "cholmod");
+  EXPECT_EQ(solverOf(base + assimilation("")), "factorized-pcg");
+  EXPECT_EQ(solverOf(base + assimilation("  reuse_factorization: true\n")), "factorized-pcg");
+  EXPECT_EQ(solverOf(base + assimilation("  reuse_factorization: false\n")), "cholmod");
+  EXPECT_EQ(
+      solverOf(base + "solver: {type: cg}\n" + assimilation("  reuse_factorization: false\n")),
+      "cg");
+  // tangent: mean: the sigma points step with the mean's own factorisation, not the solver.
+  EXPECT_EQ(solverOf(base + assimilation("  tangent: mean\n")), "cholmod");
+  EXPECT_EQ(solverOf(base + "solver: {type: cholmod}\n" + assimilation("  tangent: mean\n")),
+            "cholmod");
+  // Variants (forward runs, without the section) keep the base's solver.
+  const Scene withVariant = load(
+      base + assimilation("") + "variants:\n  - {name: soft, material: {young_modulus: 4000}}\n",
+      dir.string());
+  ASSERT_EQ(withVariant.variants.size(), 1u);
+  EXPECT_EQ(withVariant.variants[0].solver.type, "factorized-pcg");
+
+  EXPECT_EQ(
+      loadError(base + "solver: {type: cholmod}\n" + assimilation("  reuse_factorization: true\n"),
+                dir.string()),
+      "scene.yaml:5: assimilation.reuse_factorization: needs solver.type factorized-pcg, got "
+      "cholmod");
+  EXPECT_EQ(loadError(base + "solver: {type: jacobi-pcg}\n" + assimilation(""), dir.string()),
+            "scene.yaml:5: assimilation.reuse_factorization: needs solver.type factorized-pcg, got "
+            "jacobi-pcg (true by default; false solves every sigma point with jacobi-pcg)");
+  EXPECT_EQ(loadError(base + assimilation("  tangent: mean\n  reuse_factorization: false\n"),
+                      dir.string()),
+            "scene.yaml:5: assimilation.reuse_factorization: false does not go with tangent: mean "
+            "(every sigma point steps with the mean's one factorisation)");
+}
+
 }  // namespace
 }  // namespace bcassim

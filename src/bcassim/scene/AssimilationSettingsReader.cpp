@@ -8,6 +8,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/mechanics/FrozenTangent.h"
+#include "bcassim/scene/SceneBuilders.h"
 
 namespace bcassim {
 
@@ -41,6 +42,22 @@ TrackFrames toStepFrames(const MarkerTracks& tracks, const std::string& file, in
 namespace yamlio {
 
 namespace {
+
+const std::vector<std::string> kAssimilationKeys = {"filter",
+                                                    "sigma_points",
+                                                    "sigma_spread",
+                                                    "members",
+                                                    "inflation",
+                                                    "seed",
+                                                    "threads",
+                                                    "state",
+                                                    "reuse_factorization",
+                                                    "tangent",
+                                                    "tangent_refresh_every",
+                                                    "tangent_background",
+                                                    "parameters",
+                                                    "observations",
+                                                    "validation"};
 
 std::string indexed(const std::string& path, size_t i) {
   return path + "[" + std::to_string(i) + "]";
@@ -103,20 +120,16 @@ EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
   if (r.has("young_modulus")) {
     MapReader t(src, r.node("young_modulus"), r.pathOf("young_modulus"),
                 {"region", "model", "poisson_ratio"});
-    const YoungModulusTarget target = readYoungTarget(src, t, model);
-    p.target = target;
-    p.name = "E_" + std::to_string(target.region);
+    p.target = readYoungTarget(src, t, model);
     unit = "Pa";
   } else {
     MapReader t(src, r.node("spring"), r.pathOf("spring"), {"group", "coefficient"});
     const SpringCoefficientTarget target = readSpringTarget(t, model);
     p.target = target;
-    const char* names[] = {"k_alpha", "k_beta", "k_gamma"};
     const char* units[] = {"N/m^3", "N/m^2", "N/m"};
-    p.name = std::string(names[target.coefficient]) + "_" + std::to_string(target.group);
     unit = units[target.coefficient];
   }
-  p.name = r.text("name", p.name);
+  p.name = r.text("name", defaultParameterName(p.target));
   if (p.name.empty() || p.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTU"
                                                  "VWXYZ0123456789_-.") != std::string::npos)
     r.fail("name",
@@ -157,21 +170,22 @@ TrackFrames readFrames(const YamlSource& src, const MapReader& r, const std::str
                        double offset) {
   const std::string file = r.existingFile(key);
   TrackFrames frames;
-  withContext(src, r.node(key), r.pathOf(key), [&] {
-    frames =
-        toStepFrames(readMarkerTracks(file), file, numPoints, pointsName, c.dt, c.steps, offset);
-  });
+  withContext(src, r.node(key), r.pathOf(key),
+              [&] { frames = readStepFrames(file, numPoints, pointsName, c.dt, c.steps, offset); });
   return frames;
 }
 
 }  // namespace
 
+bool sharesSolverFactorization(const YamlSource& src, const YAML::Node& node) {
+  const MapReader r(src, node, "assimilation", kAssimilationKeys);
+  return r.boolean("reuse_factorization", true) &&
+         r.choice("tangent", "own", {"own", "mean"}) == "own";
+}
+
 AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML::Node& node,
                                               const AssimilationContext& c) {
-  MapReader r(src, node, "assimilation",
-              {"filter", "sigma_points", "sigma_spread", "members", "inflation", "seed", "threads",
-               "state", "reuse_factorization", "tangent", "tangent_refresh_every",
-               "tangent_background", "parameters", "observations", "validation"});
+  MapReader r(src, node, "assimilation", kAssimilationKeys);
   AssimilationSettings s;
   const std::string filter = r.choice("filter", "roukf", {"ukf", "roukf", "etkf"});
   s.filter = filter == "ukf"     ? FilterKind::Ukf
@@ -209,6 +223,16 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.tangentInBackground = r.boolean("tangent_background", false);
   r.rejectUnless(s.meanTangent, "tangent_refresh_every", "tangent: mean");
   r.rejectUnless(s.meanTangent, "tangent_background", "tangent: mean");
+  if (s.meanTangent && !s.reuseFactorization)
+    r.fail("reuse_factorization",
+           "false does not go with tangent: mean (every sigma point steps with the mean's one "
+           "factorisation)");
+  if (s.reuseFactorization && !s.meanTangent && c.solverType != "factorized-pcg") {
+    const std::string what = "needs solver.type factorized-pcg, got " + c.solverType;
+    if (r.has("reuse_factorization")) r.fail("reuse_factorization", what);
+    failAt(src, node, r.pathOf("reuse_factorization"),
+           what + " (true by default; false solves every sigma point with " + c.solverType + ")");
+  }
 
   const auto entries = listElements(src, r.node("parameters"), r.pathOf("parameters"));
   if (entries.empty())

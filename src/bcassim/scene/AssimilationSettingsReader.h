@@ -16,6 +16,7 @@ struct AssimilationContext {
   int validationPoints = 0;  // validation_points:
   double dt = 0.01;          // s
   int steps = 0;
+  std::string solverType = "cholmod";  // solver.type
 };
 
 // Tracks of `numPoints` points (`pointsName` in messages: "markers") at times timeOffset + k dt,
@@ -26,7 +27,14 @@ TrackFrames toStepFrames(const MarkerTracks& tracks, const std::string& file, in
 
 namespace yamlio {
 
+// Whether the sigma points of `node` (the scene's `assimilation` section) solve with
+// factorized-pcg sharing worker 0's factorisation: reuse_factorization (true by default) with
+// tangent: own. The scene's solver.type defaults to factorized-pcg then.
+bool sharesSolverFactorization(const YamlSource& source, const YAML::Node& node);
+
 // Reads `node` (the value of the scene's `assimilation` key) and the track files it names.
+// Refuses reuse_factorization with a solver.type other than factorized-pcg, and
+// reuse_factorization: false with tangent: mean (whose sigma points always share one factor).
 AssimilationSettings readAssimilationSettings(const YamlSource& source, const YAML::Node& node,
                                               const AssimilationContext& context);
 

@@ -6,6 +6,14 @@
 
 namespace bcassim {
 
+std::string defaultParameterName(const ModelParameterTarget& target) {
+  if (const auto* e = std::get_if<YoungModulusTarget>(&target))
+    return "E_" + std::to_string(e->region);
+  const auto& k = std::get<SpringCoefficientTarget>(target);
+  const char* names[] = {"k_alpha", "k_beta", "k_gamma"};
+  return std::string(names[k.coefficient]) + "_" + std::to_string(k.group);
+}
+
 void applyParameter(const ModelParameterTarget& target, double value, MechanicalModel& model) {
   if (const auto* e = std::get_if<YoungModulusTarget>(&target)) {
     if (e->region < 0 || e->region >= model.elasticity.numRegions())

@@ -23,6 +23,10 @@ struct SpringCoefficientTarget {
 
 using ModelParameterTarget = std::variant<YoungModulusTarget, SpringCoefficientTarget>;
 
+// The name an estimated parameter gets unless the scene names it: E_<region>, k_alpha_<group>,
+// k_beta_<group> or k_gamma_<group>.
+std::string defaultParameterName(const ModelParameterTarget& target);
+
 // Writes the physical value into the model. Throws InputError if the target does not exist.
 void applyParameter(const ModelParameterTarget& target, double value, MechanicalModel& model);
 // Reads the model's current value of the target (used to report the true value of a scene).

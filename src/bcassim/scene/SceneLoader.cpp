@@ -21,6 +21,7 @@
 #include "bcassim/scene/AssimilationSettingsReader.h"
 #include "bcassim/scene/NodePoints.h"
 #include "bcassim/scene/RegionReader.h"
+#include "bcassim/scene/SceneBuilders.h"
 #include "bcassim/scene/YamlReader.h"
 
 namespace bcassim {
@@ -242,15 +243,17 @@ std::vector<NodalLoad> readLoads(const YamlSource& src, const MapReader& top, co
       load.nodes = std::move(traction.nodes);
       load.weights = std::move(traction.shares);
       load.forcePerNode = r.vec3("total_force", Vec3::Zero(), "N");
-    } else {
+      load.profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
+    } else if (r.has("force_per_node")) {
       load.nodes = requiredRegion(src, r, mesh);
-      if (r.has("force_per_node"))
-        load.forcePerNode = r.vec3("force_per_node", Vec3::Zero(), "N");
-      else
-        load.forcePerNode =
-            r.vec3("total_force", Vec3::Zero(), "N") / static_cast<double>(load.nodes.size());
+      load.forcePerNode = r.vec3("force_per_node", Vec3::Zero(), "N");
+      load.profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
+    } else {
+      std::vector<int> nodes = requiredRegion(src, r, mesh);
+      const Vec3 total = r.vec3("total_force", Vec3::Zero(), "N");
+      const TimeProfile profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
+      load = evenNodalLoad(std::move(nodes), total, profile);
     }
-    load.profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
     loads.push_back(std::move(load));
   }
   return loads;
@@ -274,12 +277,11 @@ std::vector<CubicSpring> readLigament(const YamlSource& src, const MapReader& s,
   if (o.layers != 1 && o.layers != 2) r.fail("layers", "expected 1 or 2");
   o.layerOffset = r.number("layer_offset", o.layerOffset, "m", Range::NonNegative);
   o.smoothNormals = r.boolean("smooth_normals", true);
-  o.numGroups = static_cast<int>(groups.size());
-  o.coefficients = groups.front();
-  LigamentSprings built;
-  yamlio::withContext(src, r.node("curve"), r.pathOf("curve"),
-                      [&] { built = buildLigamentSprings(mesh, curve, o); });
-  return built.springs.springs();
+  std::vector<CubicSpring> springs;
+  yamlio::withContext(src, r.node("curve"), r.pathOf("curve"), [&] {
+    springs = ligamentSprings(mesh, curve, o, static_cast<int>(groups.size()));
+  });
+  return springs;
 }
 
 CubicSpringSet readSprings(const YamlSource& src, const MapReader& top, const TetMesh& mesh) {
@@ -362,18 +364,13 @@ Eigen::MatrixX3d readPointList(const YamlSource& src, const YAML::Node& node,
 // Mapped points and their rest positions from a region (nodes), a point list or a point file.
 MarkerSet readMappedPoints(const YamlSource& src, const MapReader& r, const std::string& path,
                            const TetMesh& mesh, bool allowFile, int count) {
-  MarkerSet set;
   Eigen::MatrixX3d P;
   if (r.has("region")) {
     std::vector<int> nodes = requiredRegion(src, r, mesh);
     if (count > 0) nodes = farthestPointSample(mesh, nodes, count);
-    const std::vector<int> tetOf = tetOfEachNode(mesh);
-    set.rest.resize(static_cast<Eigen::Index>(nodes.size()), 3);
-    for (size_t i = 0; i < nodes.size(); ++i) {
-      yamlio::withContext(src, r.node("region"), r.pathOf("region"),
-                          [&] { set.points.push_back(mappedNode(mesh, tetOf, nodes[i])); });
-      set.rest.row(i) = mesh.V.row(nodes[i]);
-    }
+    MarkerSet set;
+    yamlio::withContext(src, r.node("region"), r.pathOf("region"),
+                        [&] { set = nodePointSet(mesh, nodes); });
     return set;
   }
   if (r.has("points")) {
@@ -387,9 +384,7 @@ MarkerSet readMappedPoints(const YamlSource& src, const MapReader& r, const std:
            std::string("expected one of region, points") + (allowFile ? ", file" : ""));
   }
   // A point outside the mesh follows the closest point of the nearest tet (documented).
-  set.points = mapPoints(mesh, P);
-  set.rest = P;
-  return set;
+  return mappedPointSet(mesh, P);
 }
 
 MarkerSet readMarkers(const YamlSource& src, const MapReader& top, const TetMesh& mesh) {
@@ -432,13 +427,11 @@ MarkerSet readValidationPoints(const YamlSource& src, const MapReader& top, cons
   if (!r.has("nodes")) return readMappedPoints(src, r, path, mesh, true, r.integer("count", 0));
   if (r.text("nodes", "") != "all")
     r.fail("nodes", "expected 'all' (every mesh node), got " + yamlio::describe(r.node("nodes")));
-  const std::vector<int> tetOf = tetOfEachNode(mesh);
+  std::vector<int> all(static_cast<size_t>(mesh.numNodes()));
+  for (size_t n = 0; n < all.size(); ++n) all[n] = static_cast<int>(n);
   MarkerSet set;
-  set.rest = mesh.V;
-  for (Eigen::Index n = 0; n < mesh.numNodes(); ++n)
-    yamlio::withContext(src, r.node("nodes"), r.pathOf("nodes"), [&] {
-      set.points.push_back(mappedNode(mesh, tetOf, static_cast<int>(n)));
-    });
+  yamlio::withContext(src, r.node("nodes"), r.pathOf("nodes"),
+                      [&] { set = nodePointSet(mesh, all); });
   return set;
 }
 
@@ -505,7 +498,17 @@ const std::vector<std::string> kSceneKeys = {
     "springs",       "control_points", "markers",        "output",  "variants", "validation_points",
     "hidden_points", "assimilation",   "mean_dilatation"};
 
-Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVariants) {
+// Whether the scene's assimilation section has its sigma points share one factorisation
+// (reuse_factorization): that needs factorized-pcg, then the default solver.type, for the base
+// and its variants alike (an explicit other type is refused with the section).
+bool sharesFactorization(const YamlSource& src, const YAML::Node& root) {
+  if (!root.IsMap() || !root["assimilation"].IsDefined()) return false;
+  return yamlio::sharesSolverFactorization(src, root["assimilation"]);
+}
+
+// `sharedFactorization`: see sharesFactorization (of the base scene, for a variant).
+Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVariants,
+                 bool sharedFactorization) {
   if (!root.IsDefined() || root.IsNull())
     failAt(src, root, "", "the scene is empty; expected a map of sections (mesh, material, ...)");
   MapReader top(src, root, "", kSceneKeys);
@@ -556,8 +559,8 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   MapReader solver(src, top.node("solver"), "solver",
                    {"type", "refresh_every", "max_iterations", "tolerance", "precision",
                     "refresh_in_background"});
-  scene.solver.type =
-      solver.choice("type", "cholmod", {"cholmod", "cg", "jacobi-pcg", "factorized-pcg"});
+  scene.solver.type = solver.choice("type", sharedFactorization ? "factorized-pcg" : "cholmod",
+                                    {"cholmod", "cg", "jacobi-pcg", "factorized-pcg"});
   scene.solver.policy.everyNMatrices = solver.integer("refresh_every", 0);
   scene.solver.policy.maxIterations = solver.integer("max_iterations", 20, Range::AtLeastOne);
   scene.solver.policy.relTol = solver.number("tolerance", 1e-10, "-", Range::Positive);
@@ -585,9 +588,12 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   scene.output.pvd = output.boolean("pvd", true);
   // Variants are forward runs only; their merged YAML leaves the section out.
   if (top.has("assimilation")) {
-    const AssimilationContext context{model, static_cast<int>(scene.markers.points.size()),
-                                      static_cast<int>(scene.validation.points.size()), scene.dt(),
-                                      scene.steps};
+    const AssimilationContext context{model,
+                                      static_cast<int>(scene.markers.points.size()),
+                                      static_cast<int>(scene.validation.points.size()),
+                                      scene.dt(),
+                                      scene.steps,
+                                      scene.solver.type};
     scene.assimilation = yamlio::readAssimilationSettings(src, top.node("assimilation"), context);
   }
   return scene;
@@ -615,7 +621,8 @@ YAML::Node parse(const std::string& yaml, const YamlSource& src) {
 
 Scene loadFromText(const std::string& yaml, const YamlSource& src) {
   const YAML::Node root = parse(yaml, src);
-  Scene scene = buildScene(src, root, true);
+  const bool sharedFactorization = sharesFactorization(src, root);
+  Scene scene = buildScene(src, root, true, sharedFactorization);
   if (!root.IsMap() || !root["variants"].IsDefined()) return scene;
   const auto variants = listElements(src, root["variants"], "variants");
   if (!variants.empty() && scene.markers.points.empty())
@@ -661,7 +668,7 @@ Scene loadFromText(const std::string& yaml, const YamlSource& src) {
       overrides[key] = kv.second;
     }
     mergeInto(merged, overrides);
-    Scene variant = buildScene(src, merged, false);
+    Scene variant = buildScene(src, merged, false, sharedFactorization);
     variant.name = name;
     if (variant.steps != scene.steps || variant.dt() != scene.dt())
       failAt(src, node, path, "a variant must keep the base's time.dt and time.steps");

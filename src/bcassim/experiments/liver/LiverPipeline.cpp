@@ -7,11 +7,11 @@
 #include <fstream>
 
 #include "bcassim/Error.h"
+#include "bcassim/experiments/liver/LiverScenes.h"
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/run/ValidationErrors.h"
 #include "bcassim/scene/ModelParameter.h"
-#include "bcassim/scene/SceneLoader.h"
 
 namespace bcassim {
 namespace {
@@ -103,33 +103,35 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
   stage("prepare");
   report.scenario = prepareLiverScenario(options, outDir);
 
+  const LiverScenario& scenario = report.scenario;
+
+  // The scenes built in code; the .yaml files beside them are for the user only.
   stage("truth");
-  const Scene truth = loadScene((dir / "truth.yaml").string());
-  report.truth = runSimulation(truth, (dir / "truth").string(), cb.simulation, resumable("truth"));
+  report.truth = runSimulation(*scenario.truthScene, (dir / "truth").string(), cb.simulation,
+                               resumable("truth"));
 
   stage("estimate");
-  const Scene estimate = loadScene((dir / "estimate.yaml").string());
+  const Scene estimate = withTruthTracks(*scenario.estimateScene, (dir / "truth").string());
   report.assimilation = runAssimilation(estimate, (dir / "estimate").string(), cb.assimilation);
 
   // Validation (thesis §5.1): forward runs from rest of the coarse model with the final
   // estimates and with the prior, compared with the truth like the baseline.
   stage("validate");
-  Scene estimated = loadScene((dir / "estimate.yaml").string());
+  Scene estimated = *scenario.estimateScene;
   for (size_t i = 0; i < report.assimilation.parameters.size(); ++i)
     applyParameter(estimated.assimilation->parameters[i].target,
                    report.assimilation.parameters[i].mean, estimated.model);
   estimated.assimilation.reset();
   report.estimatedRun = runSimulation(estimated, (dir / "estimated").string(), cb.simulation);
-  Scene prior = loadScene((dir / "estimate.yaml").string());
+  Scene prior = *scenario.estimateScene;
   prior.assimilation.reset();
   prior.output.pvd = false;
   report.priorRun =
       runSimulation(prior, (dir / "prior").string(), cb.simulation, resumable("prior"));
 
   stage("baseline");
-  const Scene baseline = loadScene((dir / "baseline.yaml").string());
-  report.baseline =
-      runSimulation(baseline, (dir / "baseline").string(), cb.simulation, resumable("baseline"));
+  report.baseline = runSimulation(*scenario.baselineScene, (dir / "baseline").string(),
+                                  cb.simulation, resumable("baseline"));
 
   const fs::path truthTracks = dir / "truth" / "validation.csv";
   const StepSeries est = trackErrors(dir / "estimated" / "validation.csv", truthTracks);

@@ -11,8 +11,9 @@
 #include <numbers>
 
 #include "bcassim/Error.h"
-#include "bcassim/VectorFormat.h"
 #include "bcassim/experiments/liver/LiverPhantom.h"
+#include "bcassim/experiments/liver/LiverSceneFiles.h"
+#include "bcassim/experiments/liver/LiverScenes.h"
 #include "bcassim/io/MeshWriter.h"
 #include "bcassim/io/PointCsvWriter.h"
 #include "bcassim/io/SurfaceReader.h"
@@ -25,23 +26,15 @@
 #include "bcassim/mesh/BoundarySurface.h"
 #include "bcassim/mesh/ClosestPoint.h"
 #include "bcassim/scene/NodePoints.h"
-#include "bcassim/scene/SceneLoader.h"
+#include "bcassim/scene/SceneBuilders.h"
 
 namespace bcassim {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Thesis §5.1: Ogden liver (alpha 0.88, G 7.21 kPa, i.e. FEBio c = 16.47 kPa), nu 0.49.
-constexpr double kTruthShear = 7210.0;  // Pa
-constexpr double kTruthAlpha = 0.88;
-constexpr double kTruthNu = 0.49;
-constexpr double kEstimationYoung = 15000.0;  // Pa, StVK (thesis)
-constexpr double kEstimationNu = 0.49;
-constexpr double kDensity = 1000.0;      // kg/m^3
-constexpr double kTruthSpacing = 0.002;  // m between truth springs: a dense "membrane"
-constexpr int kTruthGroups = 24;         // stretches over which the truth stiffness varies
-constexpr double kFixedRadius = 0.006;   // m: baseline nodes held around each attachment
+constexpr int kTruthGroups = 24;        // stretches over which the truth stiffness varies
+constexpr double kFixedRadius = 0.006;  // m: baseline nodes held around each attachment
 
 Vec3 centroid(const Eigen::MatrixX3d& P) { return P.colwise().mean().transpose(); }
 
@@ -144,50 +137,23 @@ std::vector<double> nodeDepths(const TetMesh& mesh, const BoundarySurface& bound
   return depth;
 }
 
-// Largest static displacement (m) of `model` (a scene's mesh, material and fixed sections) under
-// `force` (N) spread over the nodes in the sphere: the loads are scaled from it so that every
-// liver deforms alike whatever its size and shape.
-double staticDisplacement(const std::string& model, const Vec3& center, double radius,
-                          const Vec3& force, const fs::path& dir) {
-  const std::string yaml =
-      model + fmt::format(
-                  "integrator: {{type: static}}\nloads:\n  - region: {{sphere: {{center: "
-                  "{}, radius: {}}}}}\n    total_force: {}\n",
-                  formatVec3(center), radius, formatVec3(force));
-  const Scene scene = loadSceneFromString(yaml, "load calibration", dir.string());
-  Eigen::VectorXd x = scene.model.restPositions();
-  StaticSolver solver(scene.model, makeLinearSolver("cholmod"), scene.statics);
-  if (!solver.solve(scene.model, 0.0, x).converged)
+// Largest static displacement (m) of the coarse liver held by the vessels alone (no ligament)
+// under `force` (N) spread over the nodes in the sphere: the loads are scaled from it so that
+// every liver deforms alike whatever its size and shape.
+double staticDisplacement(const LiverSceneSpec& spec, const Vec3& center, double radius,
+                          const Vec3& force) {
+  MechanicalModel model = makeCoarseLiverModel(spec);
+  DirichletRegion vessels;
+  vessels.nodes = sphereNodes(*model.mesh, spec.anatomy.hilum, spec.anatomy.vesselRadius,
+                              "vessels (hilum / IVC)");
+  model.dirichlet = DirichletConditions({vessels}, *model.pattern);
+  model.loads = {evenNodalLoad(sphereNodes(*model.mesh, center, radius, "calibration load"), force,
+                               TimeProfile{})};
+  Eigen::VectorXd x = model.restPositions();
+  StaticSolver solver(model, makeLinearSolver("cholmod"), StaticOptions{});
+  if (!solver.solve(model, 0.0, x).converged)
     throw NumericalError("liver: the load calibration did not reach equilibrium");
-  return (x - scene.model.restPositions()).reshaped(3, x.size() / 3).colwise().norm().maxCoeff();
-}
-
-// Scene text shared by the three models: time, damping, vessels, loads and the points.
-std::string commonScene(const LiverScenarioOptions& o, const LiverAnatomy& a, double rightForce,
-                        double leftForce, const std::string& extraFixed = "") {
-  const Vec3 down = -a.superior;
-  std::string s;
-  s += fmt::format("density: {}                                   # kg/m^3\n", kDensity);
-  s += "damping: {rayleigh_mass: 1.0, rayleigh_stiffness: 0.02}   # 1/s, s\n";
-  s += fmt::format("time: {{dt: {}, steps: {}}}                    # s\n", o.dt, o.steps);
-  s += "fixed:                                          # vessels at the hilum / IVC\n";
-  s += fmt::format("  - region: {{sphere: {{center: {}, radius: {}}}}}\n", formatVec3(a.hilum),
-                   a.vesselRadius);
-  s += extraFixed;
-  s += "loads:                                          # right lobe: down only; left: up, down\n";
-  s += fmt::format("  - region: {{sphere: {{center: {}, radius: {}}}}}\n", formatVec3(a.rightLoad),
-                   a.loadRadius);
-  s += fmt::format("    total_force: {}             # N at the peak\n",
-                   formatVec3(rightForce * down));
-  s += "    profile: {kind: half_sine, period: 4.0}    # s\n";
-  s += fmt::format("  - region: {{sphere: {{center: {}, radius: {}}}}}\n", formatVec3(a.leftLoad),
-                   a.loadRadius);
-  s += fmt::format("    total_force: {}\n", formatVec3(-leftForce * a.anterior));
-  s += "    profile: {kind: sine, period: 3.0}\n";
-  s += "markers: [{file: markers.csv}]                  # observed, anterior surface\n";
-  s += "validation_points: {file: validation.csv}       # inner, never observed\n";
-  s += "hidden_points: {file: tumours.csv}              # tumours: predicted with uncertainty\n";
-  return s;
+  return (x - model.restPositions()).reshaped(3, x.size() / 3).colwise().norm().maxCoeff();
 }
 
 }  // namespace
@@ -312,108 +278,55 @@ LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::str
     f << "\n";
   }
 
+  LiverSceneSpec spec;
+  spec.options = o;
+  spec.dir = outDir;
+  spec.sourceName = name;
+  spec.anatomy = a;
+  spec.fine = std::make_shared<const TetMesh>(fine.mesh);
+  spec.coarse = std::make_shared<const TetMesh>(coarse.mesh);
+  spec.curve = curve;
+  spec.markers = markers;
+  spec.validation = validation;
+  spec.tumours = tumours;
+  spec.ligamentNodes = fixedNodes;
+  spec.estimationSprings = static_cast<int>(est.springs.springs().size());
   // Stiffness per spring: (N/m per m of curve) x spacing / layers; cubic term from the
   // stiffening stretch e0 (ka e0^3 = kg e0).
   const double e0 = o.stiffeningStretch;
   auto perSpring = [&](double spacing) { return o.ligamentStiffness * spacing / lo.layers; };
-  const std::string coarseModel = fmt::format(
-      "mesh: {{file: coarse.vtu}}\nmaterial: {{model: stvk, young_modulus: {}, poisson_ratio: {}}}"
-      "   # Pa, -\nsolver: {{type: factorized-pcg, tolerance: 1.0e-8}}\n",
-      kEstimationYoung, kEstimationNu);
-  std::string ligament = "  - region: {nodes: [";  // the baseline's ligament
-  for (size_t i = 0; i < fixedNodes.size(); ++i)
-    ligament += fmt::format("{}{}", i ? ", " : "", fixedNodes[i]);
-  ligament += "]}\n";
+  for (int g = 0; g < kTruthGroups; ++g) {
+    const double s = (g + 0.5) / kTruthGroups;
+    const double profile = 1.0 + 0.6 * std::cos(2 * std::numbers::pi * s);  // 0.4 .. 1.6
+    const double kg = profile * perSpring(spec.truthSpacing);
+    spec.truthGroups.push_back({kg / (e0 * e0), 0.0, kg});
+  }
+  spec.priorStiffness = o.priorFactor * perSpring(estSpacing);
+  spec.estimationGroups.assign(
+      static_cast<size_t>(o.groups),
+      CubicSpringCoefficients{perSpring(estSpacing) / (e0 * e0), 0.0, spec.priorStiffness});
+
   // Peak forces: given, or such that the coarse model held by the vessels alone (no ligament)
   // moves each lobe by lobeDisplacement (static, linearised by a small calibration force); the
   // ligament then holds back part of that motion.
-  double rightForce = o.rightLobeForce, leftForce = o.leftLobeForce;
-  if (rightForce <= 0 || leftForce <= 0) {
-    const std::string held =
-        coarseModel + fmt::format("fixed:\n  - region: {{sphere: {{center: {}, radius: {}}}}}\n",
-                                  formatVec3(a.hilum), a.vesselRadius);
-    constexpr double probe = 0.05;  // N
-    if (rightForce <= 0)
-      rightForce = probe * o.lobeDisplacement /
-                   staticDisplacement(held, a.rightLoad, a.loadRadius, -probe * a.superior, dir);
-    if (leftForce <= 0)
-      leftForce = probe * o.lobeDisplacement /
-                  staticDisplacement(held, a.leftLoad, a.loadRadius, -probe * a.anterior, dir);
+  spec.rightForce = o.rightLobeForce;
+  spec.leftForce = o.leftLobeForce;
+  constexpr double probe = 0.05;  // N
+  if (spec.rightForce <= 0 || spec.leftForce <= 0) {
+    if (spec.rightForce <= 0)
+      spec.rightForce = probe * o.lobeDisplacement /
+                        staticDisplacement(spec, a.rightLoad, a.loadRadius, -probe * a.superior);
+    if (spec.leftForce <= 0)
+      spec.leftForce = probe * o.lobeDisplacement /
+                       staticDisplacement(spec, a.leftLoad, a.loadRadius, -probe * a.anterior);
   }
-  result.rightForce = rightForce;
-  result.leftForce = leftForce;
-  const std::string common = commonScene(o, a, rightForce, leftForce);
-  const std::string header = fmt::format(
-      "# Generated by `bcassim liver prepare` from {} (thesis §5.1). Frame found from the\n"
-      "# falciform curve{}: lateral (to the right lobe) {}, anterior {}, superior {}.\n",
-      name, hasRidge ? " and the ridge" : "", formatVec3(a.lateral), formatVec3(a.anterior),
-      formatVec3(a.superior));
-  {
-    std::ofstream t(dir / "truth.yaml");
-    t << header
-      << "# Ground truth: fine mesh, Ogden liver, dense ligament springs whose stiffness varies\n"
-         "# along the curve. Run: bcassim simulate truth.yaml --out truth\n";
-    t << "mesh: {file: fine.vtu}\n";
-    const double kappa = 2 * kTruthShear * (1 + kTruthNu) / (3 * (1 - 2 * kTruthNu));
-    t << fmt::format("material: {{model: ogden, mu: {}, alpha: {}, kappa: {:.6g}}}   # Pa, -, Pa\n",
-                     kTruthShear, kTruthAlpha, kappa);
-    t << "solver: {type: factorized-pcg, refresh_every: 10, tolerance: 1.0e-8}\n";
-    t << "springs:\n  groups:\n";
-    for (int g = 0; g < kTruthGroups; ++g) {
-      const double s = (g + 0.5) / kTruthGroups;
-      const double profile = 1.0 + 0.6 * std::cos(2 * std::numbers::pi * s);  // 0.4 .. 1.6
-      const double kg = profile * perSpring(kTruthSpacing);
-      t << fmt::format("    - {{coefficients: [{:.6g}, 0, {:.6g}]}}\n", kg / (e0 * e0), kg);
-    }
-    t << fmt::format("  ligament: {{curve: curve.csv, length: {}, spacing: {}, layers: 2}}\n",
-                     o.ligamentLength, kTruthSpacing);
-    t << common << "output: {every: 20}\n";
-  }
-  const double kgPrior = o.priorFactor * perSpring(estSpacing);
-  const double kaKnown = perSpring(estSpacing) / (e0 * e0);
-  {
-    std::ofstream e(dir / "estimate.yaml");
-    e << header
-      << fmt::format(
-             "# Estimation: coarse StVK liver, the ligament as {} springs in {} groups; ROUKF\n"
-             "# estimates k_gamma of each group from the {} markers (cubic term known).\n"
-             "# Run: bcassim assimilate estimate.yaml --out estimate\n",
-             est.springs.springs().size(), o.groups, o.markers);
-    e << coarseModel << "springs:\n  groups:\n";
-    for (int g = 0; g < o.groups; ++g)
-      e << fmt::format("    - {{coefficients: [{:.6g}, 0, {:.6g}]}}\n", kaKnown, kgPrior);
-    e << fmt::format("  ligament: {{curve: curve.csv, length: {}, layers: 2}}\n", o.ligamentLength);
-    e << common << "output: {every: 20}\n";
-    e << "assimilation:\n  filter: roukf\n";
-    e << fmt::format("  threads: {}\n", o.threads);
-    e << "  state: {positions: true, velocities: true}\n";
-    // Real time (issue 4): every sigma point steps with the elastic tangent of the analysed
-    // mean and its own springs; the tangent is built every other step on a thread of its own
-    // while the next step runs, so it is 1 or 2 steps old (older ones can go unstable on this
-    // nearly incompressible liver, docs/liver.md).
-    e << "  tangent: mean                 # own: each sigma point its own eq. 2.16 step (slower)\n"
-         "  tangent_background: true\n  tangent_refresh_every: 2\n";
-    e << "  parameters:\n";
-    for (int g = 0; g < o.groups; ++g)
-      e << fmt::format(
-          "    - {{name: k_gamma_{}, spring: {{group: {}, coefficient: gamma}}, mean: {:.6g}, "
-          "stddev: {:.6g}, transform: log}}\n",
-          g, g, kgPrior, kgPrior);
-    e << "  observations:\n    tracks: truth/markers.csv\n";
-    e << fmt::format("    noise_stddev: {}                     # m\n    sigma: {}\n", o.noise,
-                     std::max(o.noise, 1e-4));
-    e << fmt::format("    until_step: {}\n", o.observedSteps);
-    e << "  validation:\n    tracks: truth/validation.csv\n";
-  }
-  {
-    std::ofstream b(dir / "baseline.yaml");
-    b << header
-      << "# Baseline (thesis §5.1 \"fixed BCs\"): the coarse liver with the ligament as fixed "
-         "nodes.\n"
-         "# Run: bcassim simulate baseline.yaml --out baseline\n";
-    b << coarseModel << commonScene(o, a, rightForce, leftForce, ligament)
-      << "output: {every: 20}\n";
-  }
+  result.rightForce = spec.rightForce;
+  result.leftForce = spec.leftForce;
+
+  result.truthScene = std::make_shared<const Scene>(makeLiverTruthScene(spec));
+  result.estimateScene = std::make_shared<const Scene>(makeLiverEstimationScene(spec));
+  result.baselineScene = std::make_shared<const Scene>(makeLiverBaselineScene(spec));
+  writeLiverSceneFiles(spec);
   return result;
 }
 

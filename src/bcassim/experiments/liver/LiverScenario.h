@@ -1,12 +1,14 @@
 // The thesis' liver experiment (§5.1) set up from one annotated CT surface: a fine ground-truth
 // model (Ogden, dense ligament springs), a coarse estimation model (StVK, K spring groups), and a
-// baseline whose ligament is fixed nodes, written as three scenes sharing markers, validation
-// points, tumours, loads and the vessel region. Metres.
+// baseline whose ligament is fixed nodes: three scenes built in code (and written as scene files
+// for the user) sharing markers, validation points, tumours, loads and the vessel region. Metres.
 #pragma once
+#include <memory>
 #include <string>
 
 #include "bcassim/Types.h"
 #include "bcassim/ligaments/SurfaceMesher.h"
+#include "bcassim/scene/Scene.h"
 
 namespace bcassim {
 
@@ -67,11 +69,14 @@ struct LiverScenario {
   double curveLength = 0;                // m
   int fixedNodes = 0;                    // baseline: coarse nodes held in place of the ligament
   double rightForce = 0, leftForce = 0;  // peak loads used, N
+  // The three scenes, built in code (LiverScenes.h); the .yaml files say the same for the user.
+  // The estimation scene has no tracks until the truth has run (withTruthTracks).
+  std::shared_ptr<const Scene> truthScene, estimateScene, baselineScene;
 };
 
-// Meshes the surface twice, derives the anatomy, picks the points and writes to outDir:
-// coarse.vtu, fine.vtu, curve.csv, markers.csv, validation.csv, tumours.csv, anatomy.csv (the
-// frame: centre, anterior, superior, lateral) and the scenes
+// Meshes the surface twice, derives the anatomy, picks the points, builds the three scenes and
+// writes to outDir: coarse.vtu, fine.vtu, curve.csv, markers.csv, validation.csv, tumours.csv,
+// anatomy.csv (the frame: centre, anterior, superior, lateral) and the scenes for the user,
 // truth.yaml (run first: simulate), estimate.yaml (assimilate) and baseline.yaml (simulate).
 // Throws InputError for unreadable or unmeshable input.
 LiverScenario prepareLiverScenario(const LiverScenarioOptions& options, const std::string& outDir);

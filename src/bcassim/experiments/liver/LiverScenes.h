@@ -1,0 +1,77 @@
+// The three scenes of the liver experiment (thesis §5.1) built in code from one set of values:
+// the ground truth (fine Ogden liver, dense ligament springs), the estimation (coarse StVK liver,
+// K spring groups, ROUKF) and the baseline (the ligament as fixed nodes). The scene files written
+// for the user (LiverSceneFiles.h) come from the same values. SI units.
+#pragma once
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bcassim/experiments/liver/LiverScenario.h"
+#include "bcassim/mechanics/materials/OgdenMaterial.h"
+#include "bcassim/scene/Scene.h"
+
+namespace bcassim {
+
+// What the scenes are made of, beyond the options they were prepared with.
+struct LiverSceneSpec {
+  LiverScenarioOptions options;  // dt, steps, groups, ligament length, threads, noise, ...
+  std::string dir;               // where the scene files and the files they name are written
+  std::string sourceName;        // the surface ("phantom" or its file name), for the files
+  LiverAnatomy anatomy;          // the frame, the vessels' sphere, the loaded regions
+  std::shared_ptr<const TetMesh> fine, coarse;  // fine.vtu (truth), coarse.vtu (the others)
+  Eigen::MatrixX3d curve;                       // falciform attachment curve, m (curve.csv)
+  Eigen::MatrixX3d markers;                     // observed points at rest, m (markers.csv)
+  Eigen::MatrixX3d validation;                  // inner points, never observed, m (validation.csv)
+  Eigen::MatrixX3d tumours;                     // hidden points, m (tumours.csv)
+  std::vector<int> ligamentNodes;        // baseline: coarse nodes held in place of the ligament
+  double rightForce = 0, leftForce = 0;  // peak loads, N: right lobe down, left lobe anterior
+
+  // Thesis §5.1: Ogden liver (alpha 0.88, G 7.21 kPa, i.e. FEBio c = 16.47 kPa), nu 0.49; the
+  // estimation model is StVK, 15 kPa.
+  double truthShear = 7210.0;  // Pa
+  double truthAlpha = 0.88;
+  double truthPoisson = 0.49;
+  double estimationYoung = 15000.0;  // Pa
+  double estimationPoisson = 0.49;
+  double density = 1000.0;                              // kg/m^3
+  double rayleighMass = 1.0, rayleighStiffness = 0.02;  // 1/s, s
+  double solverTolerance = 1e-8;                        // factorized-pcg, relative residual
+  int truthRefreshEvery = 10;                           // truth: matrices between factorisations
+  double truthSpacing = 0.002;  // m between truth springs along the curve: a dense "membrane"
+  int outputEvery = 20;         // steps between ParaView frames
+  // Spring coefficients per group [k_alpha N/m^3, 0, k_gamma N/m]: the truth's vary along the
+  // curve, the estimation's start from the prior.
+  std::vector<CubicSpringCoefficients> truthGroups, estimationGroups;
+  double priorStiffness = 0;  // prior mean and standard deviation of each k_gamma, N/m
+  int estimationSprings = 0;  // springs of the estimation model (for the file's comment)
+
+  // Truth: Ogden with the bulk modulus that makes the small-strain Poisson ratio truthPoisson.
+  OgdenMaterial truthMaterial() const;
+  // Observation noise standard deviation the filter assumes (R), m.
+  double observationSigma() const;
+  std::string scenePath(const std::string& file) const;  // dir/file
+};
+
+// The coarse liver's mechanics alone (mesh, StVK, density; no damping, boundary conditions or
+// springs): the estimation and baseline models, and the load calibration.
+MechanicalModel makeCoarseLiverModel(const LiverSceneSpec& spec);
+
+// The nodes of `mesh` in a sphere (m); throws InputError naming `what` when there is none.
+std::vector<int> sphereNodes(const TetMesh& mesh, const Vec3& center, double radius,
+                             const std::string& what);
+
+// The scenes, as loadScene reads dir/truth.yaml, estimate.yaml and baseline.yaml. The
+// estimation scene's assimilation has no tracks yet: they come from the truth run
+// (withTruthTracks).
+Scene makeLiverTruthScene(const LiverSceneSpec& spec);
+Scene makeLiverEstimationScene(const LiverSceneSpec& spec);
+Scene makeLiverBaselineScene(const LiverSceneSpec& spec);
+
+// `estimation` with its observed tracks (truthDir/markers.csv) and validation truth
+// (truthDir/validation.csv) put on its time grid, as estimate.yaml names them. Throws InputError
+// for missing or mismatched files.
+Scene withTruthTracks(Scene estimation, const std::string& truthDir);
+
+}  // namespace bcassim

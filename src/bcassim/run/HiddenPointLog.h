@@ -1,0 +1,35 @@
+// hidden_points.csv of an assimilation run: every step, the predicted position of each hidden
+// point (tumour) with its uncertainty from the filter's covariance, and with the model error
+// seen in the innovations added (InnovationModelError).
+#pragma once
+#include <filesystem>
+#include <fstream>
+#include <optional>
+
+#include "bcassim/assimilation/Filter.h"
+#include "bcassim/coupling/MechanicalForecastModel.h"
+#include "bcassim/scene/Scene.h"
+
+namespace bcassim {
+
+class HiddenPointLog {
+ public:
+  // Opens dir/hidden_points.csv: new with its header, or cut back to `resumeStep` and appended
+  // to. Throws InputError.
+  HiddenPointLog(const Scene& scene, const std::filesystem::path& dir,
+                 std::optional<double> resumeStep);
+
+  // One row per hidden point at `step` (flushed): its position in `mean` (the model following
+  // the filter's mean) and its uncertainty from `filter`. modelErrorVariance: q (m^2) of
+  // InnovationModelError, added isotropically to the covariance for radius95_total (the
+  // eigenvalues shift by q).
+  void add(int step, double time, const MechanicalForecastModel& mean, const Filter& filter,
+           double modelErrorVariance);
+
+ private:
+  const Scene& scene_;
+  std::filesystem::path path_;
+  std::ofstream out_;
+};
+
+}  // namespace bcassim
