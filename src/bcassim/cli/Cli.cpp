@@ -87,6 +87,7 @@ int run(int argc, char** argv) {
 
   const std::vector<std::unique_ptr<Command>> commands = allCommands();
   std::vector<CLI::App*> leaves;
+  leaves.reserve(commands.size());
   for (const std::unique_ptr<Command>& command : commands)
     leaves.push_back(addCommand(app, *command));
 
