@@ -370,7 +370,7 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
       openStepCsv(timingPath.string(),
                   "step,time_s,forecast_ms,correction_ms,total_ms,validation_ms,assembly_cpu_ms,"
                   "solve_cpu_ms,tangent_cpu_ms,linear_iterations,factorizations,tangent_failures,"
-                  "tangent_wait_ms",
+                  "tangent_wait_ms,step_retries",
                   resumeStep);
 
   std::unique_ptr<ValidationLog> validation;
@@ -447,12 +447,12 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
       hidden->add(step, time, *models[0], *filter, modelError.variance(s.observations.sigma));
     const double validationSeconds = secondsSince(v0);
     timing << fmt::format(
-        "{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{},{},{:.6g}\n", step,
+        "{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{},{},{:.6g},{}\n", step,
         time, 1e3 * report.seconds.forecast, 1e3 * report.seconds.correction,
         1e3 * report.seconds.total, 1e3 * validationSeconds, 1e3 * cost.assemblySeconds,
         1e3 * cost.solveSeconds, 1e3 * cost.tangentSeconds,
         cost.forecasts > 0 ? static_cast<double>(cost.linearIterations) / cost.forecasts : 0.0,
-        cost.factorizations, cost.tangentFailures, 1e3 * cost.tangentWaitSeconds);
+        cost.factorizations, cost.tangentFailures, 1e3 * cost.tangentWaitSeconds, cost.stepRetries);
     result.tangentFailures += cost.tangentFailures;
     flushOrThrow(timing, timingPath);
     stepMs.push_back(1e3 * report.seconds.total);
