@@ -144,6 +144,29 @@ output: {pvd: false}
             "step,time_s,total_ms,newton_iterations,retries");
 }
 
+// A static run resumed from its checkpoint ramps the next step's loads from the checkpoint's, as
+// the run that never stopped does: the same markers, byte for byte.
+TEST(SimulationRunner, ResumedStaticRunRampsFromTheCheckpointsLoad) {
+  const auto dir = freshDir();
+  std::string yaml = kBeam + R"(
+integrator: {type: static, load_steps: 3}
+time: {dt: 1, steps: 4}
+output: {every: 2, pvd: false}
+)";
+  yaml.replace(yaml.find("total_force: [0, 0, 0.01]"), 25,
+               "total_force: [0, 0, 0.01]\n    profile: {kind: ramp, period: 4}");
+  const Scene scene = loadSceneFromString(yaml, "beam.yaml", dir.string());
+  runSimulation(scene, (dir / "whole").string());
+  struct Stop {};
+  EXPECT_THROW(runSimulation(scene, (dir / "stopped").string(),
+                             [](const RunProgress& p) {
+                               if (p.step == 3) throw Stop{};
+                             }),
+               Stop);
+  runSimulation(scene, (dir / "stopped").string(), {}, true);
+  EXPECT_EQ(readText(dir / "stopped" / "markers.csv"), readText(dir / "whole" / "markers.csv"));
+}
+
 // The rows of timing.csv after its header, split at commas.
 std::vector<std::vector<std::string>> timingRows(const std::filesystem::path& dir) {
   std::istringstream in(readText(dir / "timing.csv"));
