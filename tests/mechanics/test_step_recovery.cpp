@@ -348,7 +348,7 @@ TEST(StepHalving, NewtonNotConvergedIsAFailureNotAResult) {
     ADD_FAILURE() << "no StepFailure";
   } catch (const StepFailure& e) {
     EXPECT_TRUE(std::regex_match(
-        e.what(), std::regex("implicit Euler at t = 0 s: Newton did not converge in 1 iterations "
+        e.what(), std::regex("implicit Euler at t = 0 s: Newton did not converge in 1 iteration "
                              "\\(residual [0-9.e+-]+ N s, tolerance [0-9.e+-]+ N s\\) at the time "
                              "step 0.01 s \\(time.min_dt = 0.01 s allows no halving\\)")))
         << e.what();

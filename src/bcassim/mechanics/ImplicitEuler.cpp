@@ -155,9 +155,9 @@ void ImplicitEuler::attempt(const MechanicalModel& model, const MechanicalState&
     if (residual <= std::max(tolerance, floor)) break;
     if (it == options_.newtonIterations)
       throw NumericalError(
-          fmt::format("Newton did not converge in {} iterations (residual {:.3g} N s, tolerance "
+          fmt::format("Newton did not converge in {} iteration{} (residual {:.3g} N s, tolerance "
                       "{:.3g} N s)",
-                      it, residual, std::max(tolerance, floor)));
+                      it, it == 1 ? "" : "s", residual, std::max(tolerance, floor)));
     t0 = Clock::now();
     solver_->setMatrix(A_);
     dv_.setZero();

@@ -142,8 +142,8 @@ void StaticSolver::newton(Increments& run, double lambda) {
     if (report.residualNorm <= tolerance) return;
     if (it == options_.maxIterations)
       throw NumericalError(fmt::format(
-          "Newton did not converge in {} iterations (residual {:.3g} N, tolerance {:.3g} N)", it,
-          report.residualNorm, tolerance));
+          "Newton did not converge in {} iteration{} (residual {:.3g} N, tolerance {:.3g} N)", it,
+          it == 1 ? "" : "s", report.residualNorm, tolerance));
     ++report.iterations;
     Eigen::VectorXd rhs = -run.g;
     bc.eliminate(K_, rhs, Eigen::VectorXd::Zero(bc.constrainedDofs().size()));
