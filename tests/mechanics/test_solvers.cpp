@@ -1,5 +1,6 @@
 // Linear solvers: every solver reproduces a known solution; PCG preconditioned by a stored
 // factorisation matches the direct solution; refresh policy; concurrent and block solves; errors.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,11 +10,13 @@
 #include <vector>
 
 #include "bcassim/Error.h"
+#include "bcassim/mechanics/solvers/CgSolver.h"
 #include "bcassim/mechanics/solvers/CholeskyFactor.h"
 #include "bcassim/mechanics/solvers/CholmodSolver.h"
 #include "bcassim/mechanics/solvers/ConjugateGradient.h"
 #include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
 #include "bcassim/mechanics/solvers/JacobiPcgSolver.h"
+#include "bcassim/mechanics/solvers/LinearSolveError.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 
 namespace bcassim {
@@ -193,6 +196,34 @@ TEST(SolverCg, ReportsNonConvergenceAtIterationLimit) {
   EXPECT_NEAR(status.relativeResidual, (b - A * x).norm() / b.norm(), 1e-14);
 }
 
+// A solver that stops short of its tolerance throws instead of returning its last iterate; the
+// message names it, its iterations and the relative residual that iterate really has.
+TEST(SolverCg, SolversStoppingShortOfTheToleranceThrowTheExactError) {
+  const SparseMatrix A = laplacian3d(8, 0.1);
+  const Eigen::VectorXd b = randomVector(A.rows(), 4);
+  CgSolver cg(1e-10, 2);
+  JacobiPcgSolver jacobi(1e-10, 2);
+  for (LinearSolver* solver : std::vector<LinearSolver*>{&cg, &jacobi}) {
+    SCOPED_TRACE(solver->name());
+    solver->setMatrix(A);
+    Eigen::VectorXd x;
+    try {
+      solver->solve(b, x);
+      ADD_FAILURE() << "no LinearSolveError";
+    } catch (const LinearSolveError& e) {
+      const SolveStatus& status = e.status();
+      EXPECT_FALSE(status.converged);
+      EXPECT_EQ(status.iterations, 2);
+      EXPECT_NEAR(status.relativeResidual, (b - A * x).norm() / b.norm(), 1e-14);
+      EXPECT_GT(status.relativeResidual, 1e-3);
+      EXPECT_EQ(std::string(e.what()),
+                fmt::format("{} did not converge: relative residual {:.3g} after 2 iterations "
+                            "(tolerance 1e-10)",
+                            solver->name(), status.relativeResidual));
+    }
+  }
+}
+
 TEST(SolverCg, IndefiniteMatrixThrowsNumericalError) {
   SparseMatrix A = laplacian3d(4, 0.1);
   A.diagonal() *= -1.0;  // negative definite on the free dofs
@@ -278,6 +309,31 @@ TEST(SolverFactorizedPcg, RefactorizesInsideSolveWhenPcgNeedsTooManyIterations) 
   const SolveStatus next = solver.solve(randomVector(A0.rows(), 23), y);
   EXPECT_FALSE(next.refactorized);
   EXPECT_LE(next.iterations, 1);
+}
+
+// A tolerance below round-off: the stored factor does not reach it, nor does A's own; the solve
+// is an error after both tries, not the second try's iterate.
+TEST(SolverFactorizedPcg, UnreachableToleranceIsAnErrorEvenWithAFreshFactor) {
+  const SparseMatrix A = laplacian3d(6, 0.1);
+  const Eigen::VectorXd b = randomVector(A.rows(), 41);
+  RefreshPolicy policy;
+  policy.relTol = 1e-20;
+  policy.maxIterations = 4;
+  FactorizedPcgSolver solver(policy);
+  solver.setMatrix(A);
+  Eigen::VectorXd x;
+  try {
+    solver.solve(b, x);
+    ADD_FAILURE() << "no LinearSolveError";
+  } catch (const LinearSolveError& e) {
+    EXPECT_TRUE(e.status().refactorized);
+    EXPECT_EQ(e.status().iterations, 8);  // both tries
+    EXPECT_EQ(solver.factorizations(), 2);
+    EXPECT_EQ(std::string(e.what()),
+              fmt::format("factorized-pcg did not converge: relative residual {:.3g} after 8 "
+                          "iterations (tolerance 1e-20), even with A itself factorised",
+                          e.status().relativeResidual));
+  }
 }
 
 TEST(SolverFactorizedPcg, SharedFactorIsUsedAndNeverModified) {

@@ -273,10 +273,24 @@ variants:
   EXPECT_TRUE(s.variants[1].variants.empty());
 }
 
+// time.min_dt: a failing step is halved down to it; dt / 64 unless set, never above dt, and the
+// same fraction of a load step for statics.
+TEST(SceneLoader, MinimumTimeStepDefaultsToDtOver64) {
+  EXPECT_EQ(load(std::string(kBox) + "time: {dt: 0.02}").implicitEuler.minDt, 0.02 / 64);
+  const Scene s =
+      load(std::string(kBox) + "time: {dt: 0.02, min_dt: 0.005}\n" + "integrator: {type: static}");
+  EXPECT_EQ(s.implicitEuler.minDt, 0.005);
+  EXPECT_EQ(s.statics.minIncrementFraction, 0.25);
+  EXPECT_EQ(errorOf(std::string(kBox) + "time: {dt: 0.01, min_dt: 0.02}"),
+            "scene.yaml:2: time.min_dt: must be <= time.dt (s), got 0.02");
+  EXPECT_EQ(errorOf(std::string(kBox) + "time: {min_dt: 0}"),
+            "scene.yaml:2: time.min_dt: must be > 0 seconds, got 0");
+}
+
 TEST(SceneLoader, ErrorsNameLineKeyAndExpectation) {
   const std::string b = kBox;
   EXPECT_EQ(errorOf(b + "time: {dt: 0.01, step: 3}"),
-            "scene.yaml:2: unknown key 'step' in time; expected one of dt, steps");
+            "scene.yaml:2: unknown key 'step' in time; expected one of dt, steps, min_dt");
   EXPECT_EQ(errorOf(b + "time: {steps: 2.5}"),
             "scene.yaml:2: time.steps: expected an integer, got '2.5'");
   EXPECT_EQ(errorOf(b + "time: {dt: .inf}"),

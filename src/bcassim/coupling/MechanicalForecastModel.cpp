@@ -50,6 +50,7 @@ ForecastStats& ForecastStats::operator+=(const ForecastStats& o) {
   tangentWaitSeconds += o.tangentWaitSeconds;
   forecasts += o.forecasts;
   tangentFailures += o.tangentFailures;
+  stepRetries += o.stepRetries;
   linearIterations += o.linearIterations;
   factorizations += o.factorizations;
   return *this;
@@ -124,6 +125,7 @@ void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen
     const StepTimings& t = integrator_.lastTimings();
     stats_.assemblySeconds += t.assembly;
     stats_.solveSeconds += t.solve;
+    stats_.stepRetries += t.retries;
     newState = packState(work_);
     observe(work_, predicted);
     return;
@@ -139,6 +141,7 @@ void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen
     stats_.assemblySeconds += t.assembly;
     stats_.solveSeconds += t.solve;
     stats_.linearIterations += t.lastSolve.iterations;
+    stats_.stepRetries += t.retries;
     if (reuse) stats_.factorizations += reuse->factorizations() - factorizationsBefore;
   }
   if (shared_ && reuse && worker_ == 0) {
@@ -165,6 +168,7 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
     integrator_.stepWithTangent(model_, reference_, *shared_->tangent);
   else
     integrator_.step(model_, reference_);
+  stats_.stepRetries += integrator_.lastTimings().retries;
   unpackState(state, reference_);
   refreshMeanTangent();
 }

@@ -45,6 +45,8 @@ struct ForecastStats {
   // Mean tangents that were not positive definite (the previous one was kept: any tangent gives
   // a consistent step, see ImplicitEuler::stepWithTangent).
   int tangentFailures = 0;
+  // Failed steps redone as two half steps (ImplicitEuler::step), over the forecasts and the mean.
+  int stepRetries = 0;
   ForecastStats& operator+=(const ForecastStats& o);
 };
 

@@ -21,7 +21,7 @@ class FrozenTangent {
   // Dirichlet dofs eliminated. With up to kMaxCorrectedSprings springs it also prepares their
   // correction (see stepWithTangent). `analysis`, if given, is a factor whose symbolic analysis
   // of the model's pattern is reused. dt in s. Throws NumericalError if A is not positive
-  // definite.
+  // definite, InvertedElementError if an element is inverted at state.x.
   static std::shared_ptr<const FrozenTangent> build(const MechanicalModel& model,
                                                     const MechanicalState& state, double dt,
                                                     const CholeskyFactor* analysis = nullptr);

@@ -1,38 +1,57 @@
 // Static equilibrium f_int(x) = f_ext by Newton-Raphson with a backtracking line search on the
-// total potential energy, and optional load stepping (loads and prescribed displacements scaled).
+// total potential energy, and load stepping (loads and prescribed displacements in increments); an
+// increment that fails is redone as two of half the size.
 #pragma once
 #include <memory>
 
 #include "bcassim/mechanics/MechanicalModel.h"
+#include "bcassim/mechanics/StepFailure.h"
 #include "bcassim/mechanics/solvers/LinearSolver.h"
 
 namespace bcassim {
 
 struct StaticOptions {
-  double relativeTolerance = 1e-10;  // on |f_int - f_ext| / max(|f_ext|, |f_int at first iterate|)
-  int maxIterations = 50;            // Newton iterations per load step
-  int loadSteps = 1;                 // loads applied in this many equal increments
+  // Newton stops at |f_int - f_ext| <= max(relativeTolerance * max(|f_ext|, |f_int at the
+  // increment's first iterate|), the round-off of f_int (forceRoundOff)).
+  double relativeTolerance = 1e-10;
+  int maxIterations = 50;  // Newton iterations per load increment
+  int loadSteps = 1;       // loads applied in this many equal increments
+  // A load increment that fails (Newton not converged in maxIterations, a line search without an
+  // acceptable step, an inverted element, a failed linear solve) is redone from its start as two
+  // of half the size, recursively, while they stay at least this fraction of a load step's
+  // increment: 1/64 allows six halvings, 1 none (the scene's time.min_dt / time.dt).
+  double minIncrementFraction = 1.0 / 64.0;
 };
 
 struct StaticReport {
-  bool converged = false;
-  int iterations = 0;       // total over load steps
-  double residualNorm = 0;  // N, at the end
+  bool converged = false;   // true whenever solve() returns: it throws StepFailure otherwise
+  int iterations = 0;       // Newton iterations, total over load increments (failed ones included)
+  int retries = 0;          // load increments that failed and were redone as two halves
+  double residualNorm = 0;  // N, |f_int - f_ext| on the free dofs at the end
 };
 
 class StaticSolver {
  public:
   StaticSolver(const MechanicalModel& model, std::unique_ptr<LinearSolver> solver,
                StaticOptions options = {});
-  // Solves for equilibrium under the loads and prescribed displacements at time t, starting from x.
+  // Solves for equilibrium under the loads and prescribed displacements at time t, starting from
+  // x. Prescribed displacements ramp from x's values, loads from those of the last solve that
+  // returned (none before the first, see continueFrom): call it with the previous solution, as a
+  // time loop does. Throws StepFailure when an increment of the smallest size fails too.
   StaticReport solve(const MechanicalModel& model, double t, Eigen::VectorXd& x);
+  // The next solve starts from an equilibrium under the loads at time t (a resumed run).
+  void continueFrom(const MechanicalModel& model, double t);
 
  private:
+  struct Increments;
   void factorizeRegularized(const MechanicalModel& model);
+  void solveIncrement(Increments& run, double from, double to);
+  void newton(Increments& run, double lambda);
 
   std::unique_ptr<LinearSolver> solver_;
   StaticOptions options_;
   SparseMatrix K_;
+  Eigen::VectorXd equilibriumLoad_;  // f_ext the last solve ended at (N); empty before the first
 };
 
 }  // namespace bcassim

@@ -53,6 +53,21 @@ constexpr bool hasVolumetricSplit = requires {
   VolumetricSplit<M>::theta(Mat3());
 };
 
+// The tets with det F <= 0 one evaluation met: how many, the first and its det F.
+struct InvertedTets {
+  Eigen::Index count = 0, first = -1;
+  double detF = 0.0;
+  void add(Eigen::Index t, double J) {
+    if (count++ == 0) {
+      first = t;
+      detF = J;
+    }
+  }
+  void throwIfAny() const {
+    if (count > 0) throw InvertedElementError(first, detF, count);
+  }
+};
+
 }  // namespace
 
 TetElasticity::TetElasticity(const TetMesh& mesh, std::vector<Material> regionMaterials,
@@ -139,31 +154,46 @@ Eigen::Index TetElasticity::countInverted(const Eigen::VectorXd& x) const {
   return inverted;
 }
 
+// det F = det(D_s) / det(D_m) with D_s, D_m the deformed and rest edge matrices and
+// det(D_m) = 6 V > 0: the sign is that of the triple product of the deformed edges.
+void TetElasticity::requireNoInverted(const Eigen::VectorXd& x) const {
+  InvertedTets inverted;
+  for (Eigen::Index t = 0; t < T_.rows(); ++t) {
+    const Vec3 x0 = x.segment<3>(3 * T_(t, 0));
+    const double det =
+        (x.segment<3>(3 * T_(t, 1)) - x0)
+            .dot((x.segment<3>(3 * T_(t, 2)) - x0).cross(x.segment<3>(3 * T_(t, 3)) - x0));
+    if (det <= 0) inverted.add(t, det / (6.0 * volume_[t]));
+  }
+  inverted.throwIfAny();
+}
+
 void TetElasticity::addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
   if (patches_) return addPatchForcesAndStiffness(x, nullptr, 1.0, f, nullptr);
-  Eigen::Index inverted = 0;
+  InvertedTets inverted;
   forEachRegion([&](const auto& material, const std::vector<int>& tets) {
     for (int t : tets) {
       const Eigen::Vector4i tet = T_.row(t);
       const Mat3 F = deformationGradient(x, tet, gradN_[t]);
-      if (F.determinant() <= 0) ++inverted;
+      if (const double J = F.determinant(); J <= 0) inverted.add(t, J);
       const Eigen::Matrix<double, 3, 4> H = volume_[t] * material.pk1(F) * gradN_[t].transpose();
       for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet(a)) += H.col(a);
     }
   });
-  inverted_ = inverted;
+  inverted_ = inverted.count;
+  inverted.throwIfAny();
 }
 
 void TetElasticity::addForcesAndStiffness(const Eigen::VectorXd& x, const AssemblyPattern& pattern,
                                           double scale, Eigen::VectorXd& f, SparseMatrix& K) const {
   if (patches_) return addPatchForcesAndStiffness(x, &pattern, scale, f, &K);
-  Eigen::Index inverted = 0;
+  InvertedTets inverted;
   forEachRegion([&](const auto& material, const std::vector<int>& tets) {
     for (int t : tets) {
       const Eigen::Vector4i tet = T_.row(t);
       const auto& G = gradN_[t];
       const Mat3 F = deformationGradient(x, tet, G);
-      if (F.determinant() <= 0) ++inverted;
+      if (const double J = F.determinant(); J <= 0) inverted.add(t, J);
       ElementForces H;
       Mat12 Ke;
       elementForcesAndStiffness(material, F, G, volume_[t], H, Ke);
@@ -172,7 +202,8 @@ void TetElasticity::addForcesAndStiffness(const Eigen::VectorXd& x, const Assemb
       scatterTetBlock(pattern, t, Ke, K);
     }
   });
-  inverted_ = inverted;
+  inverted_ = inverted.count;
+  inverted.throwIfAny();
 }
 
 // Calls visit(material, split, patches) once per region with the concrete material type, its
@@ -214,7 +245,7 @@ double TetElasticity::patchEnergy(const Eigen::VectorXd& x) const {
 void TetElasticity::addPatchForcesAndStiffness(const Eigen::VectorXd& x,
                                                const AssemblyPattern* pattern, double scale,
                                                Eigen::VectorXd& f, SparseMatrix* K) const {
-  Eigen::Index inverted = 0;
+  InvertedTets inverted;
   double* values = K ? K->valuePtr() : nullptr;
   std::vector<Mat3> Fs;
   Eigen::VectorXd gSum;
@@ -229,7 +260,7 @@ void TetElasticity::addPatchForcesAndStiffness(const Eigen::VectorXd& x,
       for (size_t k = 0; k < tets.size(); ++k) {
         const int t = tets[k];
         Fs[k] = deformationGradient(x, T_.row(t), gradN_[t]);
-        if (Fs[k].determinant() <= 0) ++inverted;
+        if (const double J = Fs[k].determinant(); J <= 0) inverted.add(t, J);
         VTheta += volume_[t] * split.theta(Fs[k]);
         VP += volume_[t];
       }
@@ -267,7 +298,8 @@ void TetElasticity::addPatchForcesAndStiffness(const Eigen::VectorXd& x,
       }
     }
   });
-  inverted_ = inverted;
+  inverted_ = inverted.count;
+  inverted.throwIfAny();
 }
 
 }  // namespace bcassim

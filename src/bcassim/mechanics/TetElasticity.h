@@ -7,6 +7,7 @@
 
 #include "bcassim/Types.h"
 #include "bcassim/mechanics/AssemblyPattern.h"
+#include "bcassim/mechanics/InvertedElementError.h"
 #include "bcassim/mechanics/MeanDilatationPatches.h"
 #include "bcassim/mechanics/materials/Material.h"
 #include "bcassim/mesh/TetMesh.h"
@@ -28,9 +29,12 @@ class TetElasticity {
 
   // Total elastic energy at positions x (3N node-major, m), J.
   double energy(const Eigen::VectorXd& x) const;
-  // Adds the internal forces f_int = dW/dx (N) at x to f.
+  // Adds the internal forces f_int = dW/dx (N) at x to f. Throws InvertedElementError, once the
+  // whole mesh is assembled, if a tet has det F <= 0 (whatever its material: no state with an
+  // inverted element is taken as a result).
   void addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
-  // Adds f_int to f and scale * K(x) into K (K must have `pattern`'s structure).
+  // Adds f_int to f and scale * K(x) into K (K must have `pattern`'s structure). Throws
+  // InvertedElementError as addInternalForces.
   void addForcesAndStiffness(const Eigen::VectorXd& x, const AssemblyPattern& pattern, double scale,
                              Eigen::VectorXd& f, SparseMatrix& K) const;
 
@@ -40,6 +44,10 @@ class TetElasticity {
   double restVolume(Eigen::Index t) const { return volume_[t]; }
   // Number of tets with det F <= 0 at positions x.
   Eigen::Index countInverted(const Eigen::VectorXd& x) const;
+  // Throws InvertedElementError if a tet has det F <= 0 at positions x: the check of a state that
+  // no force evaluation has seen (the end of a linearised step). About a tenth of a force
+  // assembly (det F from the edge vectors' triple product, no material law).
+  void requireNoInverted(const Eigen::VectorXd& x) const;
   // Number of tets with det F <= 0 met by the last force evaluation (0 in a healthy simulation).
   Eigen::Index lastInvertedCount() const { return inverted_; }
   // The nodes of each mean-dilatation patch (empty without mean dilatation): the cliques the

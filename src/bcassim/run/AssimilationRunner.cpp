@@ -286,7 +286,7 @@ AssimilationFiles openFiles(const Scene& scene, const AssimilationSetup& setup, 
       openStepCsv(files.timingPath.string(),
                   "step,time_s,forecast_ms,correction_ms,total_ms,validation_ms,assembly_cpu_ms,"
                   "solve_cpu_ms,tangent_cpu_ms,linear_iterations,factorizations,tangent_failures,"
-                  "tangent_wait_ms",
+                  "tangent_wait_ms,step_retries",
                   cutAt);
   if (s.validationTruth) files.validation = std::make_unique<ValidationLog>(scene, dir, cutAt);
   if (!scene.hidden.points.empty())
@@ -426,12 +426,12 @@ FilterStepReport filterStep(int step, const Scene& scene, AssimilationSetup& set
   const double validationSeconds = secondsSince(v0);
 
   files.timing << fmt::format(
-      "{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{},{},{:.6g}\n", step,
+      "{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{},{},{:.6g},{}\n", step,
       time, 1e3 * report.seconds.forecast, 1e3 * report.seconds.correction,
       1e3 * report.seconds.total, 1e3 * validationSeconds, 1e3 * cost.assemblySeconds,
       1e3 * cost.solveSeconds, 1e3 * cost.tangentSeconds,
       cost.forecasts > 0 ? static_cast<double>(cost.linearIterations) / cost.forecasts : 0.0,
-      cost.factorizations, cost.tangentFailures, 1e3 * cost.tangentWaitSeconds);
+      cost.factorizations, cost.tangentFailures, 1e3 * cost.tangentWaitSeconds, cost.stepRetries);
   loop.result.tangentFailures += cost.tangentFailures;
   flushOrThrow(files.timing, files.timingPath);
   loop.stepMs.push_back(1e3 * report.seconds.total);

@@ -12,6 +12,7 @@
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/io/CsvTruncate.h"
 #include "bcassim/io/PvdSeries.h"
+#include "bcassim/mechanics/StepFailure.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 #include "bcassim/run/SimulationCheckpoint.h"
 #include "bcassim/run/StressField.h"
@@ -120,10 +121,12 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
   std::unique_ptr<ImplicitEuler> dynamics;
   std::unique_ptr<StaticSolver> equilibrium;
   auto solver = makeLinearSolver(scene.solver.type, scene.solver.policy);
-  if (statics)
+  if (statics) {
     equilibrium = std::make_unique<StaticSolver>(model, std::move(solver), scene.statics);
-  else
+    if (resume) equilibrium->continueFrom(model, resumed.t);
+  } else {
     dynamics = std::make_unique<ImplicitEuler>(model, std::move(solver), scene.implicitEuler);
+  }
 
   const StressField stress(*model.mesh);
   const std::filesystem::path out(dir);
@@ -157,8 +160,8 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
   const std::string timingPath = (out / "timing.csv").string();
   std::ofstream timing =
       openStepCsv(timingPath,
-                  statics ? "step,time_s,total_ms,newton_iterations"
-                          : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations",
+                  statics ? "step,time_s,total_ms,newton_iterations,retries"
+                          : "step,time_s,assembly_ms,solve_ms,total_ms,linear_iterations,retries",
                   resume ? std::optional<double>(resumed.step) : std::nullopt);
 
   const Eigen::VectorXd rest = model.restPositions();
@@ -166,24 +169,26 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
   progress.step = resumed.step;
   for (int step = resumed.step + 1; step <= scene.steps; ++step) {
     const Clock::time_point s0 = Clock::now();
-    if (statics) {
-      state.t = step * scene.dt();
-      const StaticReport report = equilibrium->solve(model, state.t, state.x);
-      if (!report.converged)
-        throw NumericalError(fmt::format(
-            "{}: static equilibrium not reached at t = {:.6g} s (step {}): residual {:.3g} N after "
-            "{} Newton iterations",
-            scene.sourceFile, state.t, step, report.residualNorm, report.iterations));
-      const double s = secondsSince(s0);
-      stepSeconds += s;
-      timing << fmt::format("{},{:.9g},{:.6g},{}\n", step, state.t, 1e3 * s, report.iterations);
-    } else {
-      dynamics->step(model, state);
-      state.t = step * scene.dt();  // no drift from summing dt over thousands of steps
-      stepSeconds += secondsSince(s0);
-      const StepTimings& tm = dynamics->lastTimings();
-      timing << fmt::format("{},{:.9g},{:.6g},{:.6g},{:.6g},{}\n", step, state.t, 1e3 * tm.assembly,
-                            1e3 * tm.solve, 1e3 * tm.total, tm.lastSolve.iterations);
+    try {
+      if (statics) {
+        state.t = step * scene.dt();
+        const StaticReport report = equilibrium->solve(model, state.t, state.x);
+        const double s = secondsSince(s0);
+        stepSeconds += s;
+        timing << fmt::format("{},{:.9g},{:.6g},{},{}\n", step, state.t, 1e3 * s, report.iterations,
+                              report.retries);
+      } else {
+        dynamics->step(model, state);
+        state.t = step * scene.dt();  // no drift from summing dt over thousands of steps
+        stepSeconds += secondsSince(s0);
+        const StepTimings& tm = dynamics->lastTimings();
+        timing << fmt::format("{},{:.9g},{:.6g},{:.6g},{:.6g},{},{}\n", step, state.t,
+                              1e3 * tm.assembly, 1e3 * tm.solve, 1e3 * tm.total,
+                              tm.lastSolve.iterations, tm.retries);
+      }
+    } catch (const StepFailure& e) {
+      throw NumericalError(fmt::format("{}: step {} (t = {:.6g} s): {}", scene.sourceFile, step,
+                                       e.time(), e.detail()));
     }
     for (Eigen::Index i = 0; i < model.mesh->numNodes(); ++i)
       trace.result.maxNodeDisplacement =

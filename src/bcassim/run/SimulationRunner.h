@@ -48,10 +48,11 @@ struct SimulationResult {
 //     simulation_markers_*.vtp / simulation_springs_*.vtp parts when there are markers / springs
 //   markers.csv  time,marker,x,y,z after every step (s, index, m), flushed as it goes
 //   validation.csv  the same for the validation points, with a first frame at t = 0 (rest)
-//   timing.csv   per-step wall times in ms
+//   timing.csv   per-step wall times in ms, iterations and retries (halved steps or increments)
 // and with variants, outDir/variants.csv (name, relative differences, mean step time).
-// progress (may be empty) is called after every step. Throws NumericalError when a step fails
-// (non-finite state, static equilibrium not reached) and InputError when a file cannot be written.
+// progress (may be empty) is called after every step. Throws NumericalError when a step fails even
+// when cut down to time.min_dt, "<scene>: step N (t = T s): <what failed>" (an inverted element,
+// a linear or Newton solve that did not converge), and InputError when a file cannot be written.
 //
 // A checkpoint (outDir/checkpoint.bin, SimulationCheckpoint.h) is written at every output step;
 // with `resume`, the run continues from it: the CSV files are cut back to its step and appended

@@ -538,9 +538,14 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   model.rayleighMass = damping.number("rayleigh_mass", 0.0, "1/s", Range::NonNegative);
   model.rayleighStiffness = damping.number("rayleigh_stiffness", 0.0, "s", Range::NonNegative);
 
-  MapReader time(src, top.node("time"), "time", {"dt", "steps"});
+  MapReader time(src, top.node("time"), "time", {"dt", "steps", "min_dt"});
   scene.implicitEuler.dt = time.number("dt", 0.01, "s", Range::Positive);
   scene.steps = time.integer("steps", 100, Range::AtLeastOne);
+  // A failing step is halved down to min_dt (the default allows six halvings).
+  const double dt = scene.implicitEuler.dt;
+  scene.implicitEuler.minDt = time.number("min_dt", dt / 64.0, "s", Range::Positive);
+  if (scene.implicitEuler.minDt > dt)
+    time.fail("min_dt", "must be <= time.dt (s), got " + time.node("min_dt").Scalar());
 
   MapReader integ(src, top.node("integrator"), "integrator",
                   {"type", "newton_iterations", "tolerance", "max_iterations", "load_steps"});
@@ -555,6 +560,7 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   scene.statics.relativeTolerance = scene.implicitEuler.newtonTolerance;
   scene.statics.maxIterations = integ.integer("max_iterations", 50, Range::AtLeastOne);
   scene.statics.loadSteps = integ.integer("load_steps", 1, Range::AtLeastOne);
+  scene.statics.minIncrementFraction = scene.implicitEuler.minDt / dt;
 
   MapReader solver(src, top.node("solver"), "solver",
                    {"type", "refresh_every", "max_iterations", "tolerance", "precision",

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "bcassim/mechanics/solvers/CholeskyPreconditioner.h"
+#include "bcassim/mechanics/solvers/LinearSolveError.h"
 
 namespace bcassim {
 
@@ -83,6 +84,9 @@ SolveStatus FactorizedPcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd
       policy_.relTol, policy_.maxIterations, cgWork_);
   second.iterations += first.iterations;
   second.refactorized = true;
+  // Even A's own factor did not get there: A is too ill-conditioned for the tolerance.
+  if (!second.converged)
+    throw LinearSolveError(name(), second, policy_.relTol, ", even with A itself factorised");
   return second;
 }
 

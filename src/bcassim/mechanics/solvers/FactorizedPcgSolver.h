@@ -42,7 +42,7 @@ class FactorizedPcgSolver final : public LinearSolver {
   void setMatrix(const SparseMatrix& A) override;
   // PCG from x; if it has not converged after policy().maxIterations, factorises the current
   // matrix, solves directly and confirms by PCG (status.refactorized = true). Iterations of both
-  // runs are counted.
+  // runs are counted. Throws LinearSolveError if the confirmation does not converge either.
   SolveStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   std::string name() const override { return "factorized-pcg"; }
 

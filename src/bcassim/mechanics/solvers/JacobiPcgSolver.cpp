@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "bcassim/mechanics/solvers/LinearSolveError.h"
+
 namespace bcassim {
 
 void JacobiPcgSolver::setMatrix(const SparseMatrix& A) {
@@ -12,7 +14,8 @@ void JacobiPcgSolver::setMatrix(const SparseMatrix& A) {
 SolveStatus JacobiPcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (A_ == nullptr) throw std::logic_error("JacobiPcgSolver::solve before setMatrix");
   const int maxIter = maxIterations_ > 0 ? maxIterations_ : static_cast<int>(A_->rows());
-  return preconditionedCg(*A_, b, x, jacobi_, relTol_, maxIter, work_);
+  return requireConverged(preconditionedCg(*A_, b, x, jacobi_, relTol_, maxIter, work_), name(),
+                          relTol_);
 }
 
 }  // namespace bcassim

@@ -8,7 +8,8 @@ namespace bcassim {
 
 class JacobiPcgSolver final : public LinearSolver {
  public:
-  // Stops at |b - A x| / |b| <= relTol or after maxIterations (0: the size of the matrix).
+  // Stops at |b - A x| / |b| <= relTol; throws LinearSolveError if maxIterations (0: the size
+  // of the matrix) did not get there.
   explicit JacobiPcgSolver(double relTol = 1e-10, int maxIterations = 0)
       : relTol_(relTol), maxIterations_(maxIterations) {}
   void analyzePattern(const SparseMatrix&) override {}

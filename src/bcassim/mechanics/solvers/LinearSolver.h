@@ -9,6 +9,8 @@
 namespace bcassim {
 
 struct SolveStatus {
+  // Always true from a LinearSolver (an iterative one throws LinearSolveError instead); false
+  // from the free function preconditionedCg when it stopped at its iteration limit.
   bool converged = true;
   int iterations = 0;             // 0 for direct solves
   double relativeResidual = 0.0;  // |b - A x| / |b| as measured by the solver (0 if not measured)
@@ -25,7 +27,8 @@ class LinearSolver {
   // may not.
   virtual void setMatrix(const SparseMatrix& A) = 0;
   // Solves A x = b. x holds the initial guess on entry (used by iterative solvers; a vector of the
-  // wrong size counts as zero). An instance is used by one thread at a time.
+  // wrong size counts as zero). An instance is used by one thread at a time. An iterative solver
+  // that stops short of its tolerance throws LinearSolveError (it never returns a non-solution).
   virtual SolveStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
   virtual std::string name() const = 0;
 };
