@@ -78,7 +78,7 @@ std::vector<int> readIndexList(const std::string& path) {
     throw InputError(
         fmt::format("{}: unsupported id list format '{}'; expected .csv, .txt or .npy", path, ext));
   io::requireReadableFile(path);
-  const std::vector<int> ids = ext == ".npy" ? readNpyIds(path) : readTextIds(path, ext == ".csv");
+  std::vector<int> ids = ext == ".npy" ? readNpyIds(path) : readTextIds(path, ext == ".csv");
   if (ids.empty())
     throw InputError(
         fmt::format("{}: no ids; expected at least one non-negative integer id", path));

@@ -192,7 +192,7 @@ NpyArray readNpy(const std::string& path) {
     throw InputError(
         fmt::format("{}: .npy format version {}.{}; expected 1.0, 2.0 or 3.0", path, major, minor));
   const int lengthBytes = major == 1 ? 2 : 4;
-  if (prefixRead < static_cast<std::uintmax_t>(8 + lengthBytes))
+  if (prefixRead < static_cast<std::uintmax_t>(8) + static_cast<std::uintmax_t>(lengthBytes))
     throw InputError(
         fmt::format("{}: file of {} bytes ends in the .npy preamble; expected at "
                     "least {} bytes",

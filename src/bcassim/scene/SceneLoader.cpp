@@ -1,5 +1,6 @@
 #include "bcassim/scene/SceneLoader.h"
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -179,6 +180,7 @@ TimeProfile readProfile(const YamlSource& src, const YAML::Node& node, const std
       {"square", TimeProfile::Kind::Square},      {"pulse", TimeProfile::Kind::Pulse},
       {"half_sine", TimeProfile::Kind::HalfSine}, {"ramp", TimeProfile::Kind::Ramp}};
   std::vector<std::string> names;
+  names.reserve(kinds.size());
   for (const auto& k : kinds) names.push_back(k.first);
   const std::string kind = r.choice("kind", "constant", names);
   TimeProfile profile;
@@ -667,9 +669,9 @@ Scene loadFromText(const std::string& yaml, const YamlSource& src) {
       if (!known) {
         std::string list = "name";
         for (const std::string& k : kSceneKeys)
-          if (k != "variants" && k != "assimilation") list += ", " + k;
+          if (k != "variants" && k != "assimilation") list.append(", ").append(k);
         failAt(src, kv.first, "",
-               "unknown key '" + key + "' in " + path + "; expected one of " + list);
+               fmt::format("unknown key '{}' in {}; expected one of {}", key, path, list));
       }
       overrides[key] = kv.second;
     }

@@ -236,7 +236,7 @@ std::string MapReader::text(const std::string& key, const std::string& fallback)
 
 std::string MapReader::choice(const std::string& key, const std::string& fallback,
                               const std::vector<std::string>& choices) const {
-  const std::string v = text(key, fallback);
+  std::string v = text(key, fallback);
   for (const std::string& c : choices)
     if (v == c) return v;
   std::string list;
@@ -252,7 +252,7 @@ Vec3 MapReader::vec3(const std::string& key, const Vec3& fallback, const std::st
 }
 
 std::string MapReader::existingFile(const std::string& key) const {
-  const std::string resolved = resolvePath(source_.directory, text(key, ""));
+  std::string resolved = resolvePath(source_.directory, text(key, ""));
   std::error_code ec;
   if (!has(key) || !std::filesystem::is_regular_file(resolved, ec))
     fail(key, "cannot open '" + resolved + "'");
