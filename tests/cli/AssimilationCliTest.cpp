@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "bcassim/io/CsvTracks.h"
@@ -50,6 +51,32 @@ const char* kParameters =
 // An assimilation section: the given options, then one parameter and the tracks.csv observations.
 std::string sectionWith(const std::string& options) {
   return options + kParameters + "  observations: {tracks: tracks.csv}\n";
+}
+
+// A forecast that inverts an element whatever its step (min_dt = dt: no halving) stops the run
+// with exit code 3 and one line naming the scene, the filter step, its time and the element.
+TEST(AssimilationCli, FailedForecastNamesTheStepTimeAndElement) {
+  const auto dir = freshDir();
+  writeText(dir / "scene.yaml",
+            "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
+            "fixed: [{region: {box: {min: [-1, -1, -1], max: [0.001, 1, 1]}}}]\n"
+            "loads: [{region: {box: {min: [0.099, -1, -1], max: [1, 1, 1]}}, "
+            "total_force: [0, -1000, 0]}]\n"
+            "markers:\n"
+            "  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
+            "time: {dt: 0.01, steps: 3, min_dt: 0.01}\n"
+            "output: {pvd: false}\n"
+            "assimilation:\n" +
+                sectionWith(""));
+  writeText(dir / "tracks.csv", kTwoMarkers);
+  const test::CliResult r = runBcassim(dir, "assimilate scene.yaml --out out --quiet --no-plots");
+  EXPECT_EQ(r.exitCode, 3);
+  const std::string prefix =
+      "bcassim: error: scene.yaml: assimilation step 1 (t = 0.01 s), a forecast: element ";
+  EXPECT_EQ(r.err.substr(0, prefix.size()), prefix) << r.err;
+  EXPECT_NE(r.err.find(" inverted (det F = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(time.min_dt = 0.01 s allows no halving)"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
 TEST(AssimilationCli, UnknownFilter) {

@@ -25,6 +25,7 @@
 #include "bcassim/coupling/MechanicalForecastModel.h"
 #include "bcassim/coupling/ParameterForwardRun.h"
 #include "bcassim/io/CsvTruncate.h"
+#include "bcassim/mechanics/StepFailure.h"
 #include "bcassim/run/AssimilationCheckpoint.h"
 #include "bcassim/run/AssimilationEstimates.h"
 #include "bcassim/run/HiddenPointLog.h"
@@ -396,7 +397,18 @@ FilterStepReport filterStep(int step, const Scene& scene, AssimilationSetup& set
   const AssimilationSettings& s = *scene.assimilation;
   const double time = step * scene.dt();
   const Observation y = observationAt(s.observations, step, loop.rng);
-  const FilterStepReport report = setup.filter->step(y);
+  FilterStepReport report;
+  try {
+    report = setup.filter->step(y);
+  } catch (const StepFailure& e) {
+    // A sigma point's forecast failed even with its step halved to the floor: the run stops
+    // here, with the checkpoint of the last output step to resume from.
+    throw NumericalError(fmt::format("{}: assimilation step {} (t = {:.6g} s), a forecast: {}",
+                                     scene.sourceFile, step, time, e.detail()));
+  } catch (const NumericalError& e) {
+    throw NumericalError(fmt::format("{}: assimilation step {} (t = {:.6g} s): {}",
+                                     scene.sourceFile, step, time, e.what()));
+  }
   ForecastStats cost;
   for (const auto& m : setup.models) cost += m->takeStats();
 

@@ -14,20 +14,13 @@
 #include "bcassim/io/PvdSeries.h"
 #include "bcassim/mechanics/StepFailure.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
+#include "bcassim/run/OutputFiles.h"
 #include "bcassim/run/SimulationCheckpoint.h"
 #include "bcassim/run/StressField.h"
 
 namespace bcassim {
 
 namespace {
-
-std::ofstream openForWriting(const std::string& path) {
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-  std::ofstream out(path);
-  if (!out) throw InputError(path + ": cannot write file");
-  return out;
-}
 
 Eigen::MatrixX3d pointPositions(const Scene& scene, const MarkerSet& set,
                                 const Eigen::VectorXd& x) {
@@ -102,9 +95,7 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
   trace.result.outDir = dir;
   trace.result.steps = scene.steps;
 
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError(dir + ": cannot create directory (" + ec.message() + ")");
+  createOutputDirectory(dir);
   MechanicalState state = model.restState();
   SimulationCheckpoint resumed;
   if (resume) {
@@ -225,8 +216,7 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
     progress.meanStepMs = 1e3 * stepSeconds / step;
     if (callback) callback(progress);
   }
-  timing.flush();
-  if (!timing) throw InputError(dir + "/timing.csv: cannot write file");
+  flushOrThrow(timing, std::filesystem::path(dir) / "timing.csv");
   trace.result.frames = series ? series->numFrames() : 0;
   trace.result.meanStepMs = scene.steps > 0 ? 1e3 * stepSeconds / scene.steps : 0.0;
   trace.result.wallSeconds = secondsSince(t0);
@@ -301,8 +291,7 @@ SimulationResult runSimulation(const Scene& scene, const std::string& outDir,
     for (const RunResult& r : result.runs)
       csv << fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.name, r.relativeDifferenceFinal,
                          r.relativeDifferenceAll, r.meanStepMs, r.maxMarkerDisplacement);
-    csv.flush();
-    if (!csv) throw InputError(path + ": cannot write file");
+    flushOrThrow(csv, path);
   }
   result.wallSeconds = secondsSince(started);
   return result;
