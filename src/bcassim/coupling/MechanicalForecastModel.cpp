@@ -24,7 +24,7 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
                                                  std::vector<MappedPoint> observed,
                                                  std::vector<ModelParameterTarget> parameters,
                                                  const MechanicalState& initial,
-                                                 ForecastModelOptions options, int worker,
+                                                 const ForecastModelOptions& options, int worker,
                                                  std::shared_ptr<SharedFactorization> shared)
     : model_(model),
       integrator_(model_, makeLinearSolver(options.solver, options.refresh),

@@ -73,8 +73,8 @@ class MechanicalForecastModel final : public ForecastModel {
   MechanicalForecastModel(const MechanicalModel& model, ImplicitEulerOptions integrator,
                           std::vector<MappedPoint> observed,
                           std::vector<ModelParameterTarget> parameters,
-                          const MechanicalState& initial, ForecastModelOptions options, int worker,
-                          std::shared_ptr<SharedFactorization> shared);
+                          const MechanicalState& initial, const ForecastModelOptions& options,
+                          int worker, std::shared_ptr<SharedFactorization> shared);
 
   Eigen::Index stateSize() const override;
   Eigen::Index observationSize() const override {

@@ -7,9 +7,9 @@ MechanicalModel makeMechanicalModel(std::shared_ptr<const TetMesh> mesh,
                                     MassKind massKind, int meanDilatationPatchTets) {
   TetElasticity elasticity(*mesh, std::move(regionMaterials), meanDilatationPatchTets);
   auto pattern = std::make_shared<const AssemblyPattern>(*mesh, elasticity.patchNodeSets());
+  MassMatrix mass(*mesh, *pattern, density, massKind);
   MechanicalModel model{
-      mesh, pattern, std::move(elasticity), MassMatrix(*mesh, *pattern, density, massKind), {}, {},
-      {},   {}};
+      std::move(mesh), std::move(pattern), std::move(elasticity), std::move(mass), {}, {}, {}, {}};
   return model;
 }
 

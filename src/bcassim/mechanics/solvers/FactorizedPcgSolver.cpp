@@ -29,9 +29,8 @@ void FactorizedPcgSolver::setMatrix(const SparseMatrix& A) {
   const bool due =
       policy_.everyNMatrices > 0 && matricesSinceFactorization_ > policy_.everyNMatrices;
   adoptFinishedRefresh();
-  if (!factor_->isFactorized() || !factor_->matchesPattern(A)) {
-    refactorize();
-  } else if (due && policy_.background) {
+  const bool stale = !factor_->isFactorized() || !factor_->matchesPattern(A);
+  if (!stale && due && policy_.background) {
     if (!pending_.valid()) {
       std::shared_ptr<CholeskyFactor> next = factor_->cloneAnalysis();
       pending_ = std::async(std::launch::async,
@@ -42,7 +41,7 @@ void FactorizedPcgSolver::setMatrix(const SparseMatrix& A) {
                             });
     }
     matricesSinceFactorization_ = 1;
-  } else if (due) {
+  } else if (stale || due) {
     refactorize();
   }
 }
