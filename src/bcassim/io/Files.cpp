@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 
 #include "bcassim/Error.h"
 
@@ -14,6 +15,22 @@ void requireReadableFile(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(fmt::format("{}: cannot open file", path));
+}
+
+std::string readFileBytes(const std::string& path) {
+  requireReadableFile(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open file", path));
+  std::string bytes;
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size > 0) {
+    bytes.resize(static_cast<size_t>(size));
+    in.seekg(0);
+    in.read(bytes.data(), size);
+    if (in.gcount() != size) throw InputError(fmt::format("{}: cannot read file", path));
+  }
+  return bytes;
 }
 
 void createParentDirectory(const std::string& path) {
