@@ -229,8 +229,9 @@ TEST(GmshReader, InvertedTet) {
   std::string text = cubeV2();
   text.replace(text.find("11 15 17 14"), 11, "11 17 15 14");
   const std::string path = writeText(dir.file("inv.msh"), text);
+  // Named by its element tag and line, as the file numbers it (it is the third tet).
   EXPECT_INPUT_ERROR(path +
-                         ": tet 2 is inverted (signed volume -0.167 m^3); expected the same "
+                         ":26: element 5 is inverted (signed volume -0.167 m^3); expected the same "
                          "orientation as the other tets",
                      readTetMesh(path));
 }
