@@ -29,6 +29,45 @@ int nodesPerElement(long long type) {
 }
 
 constexpr long long kTetType = 4;
+
+// The volume element types other than the linear tetrahedron, which would leave holes if they
+// were dropped as lower-dimensional elements are; nullptr for the others.
+const char* otherVolumeElement(long long type) {
+  switch (type) {
+    case 5:
+      return "hexahedron";
+    case 6:
+      return "prism";
+    case 7:
+      return "pyramid";
+    case 11:
+      return "10-node tetrahedron";
+    case 12:
+      return "27-node hexahedron";
+    case 13:
+      return "18-node prism";
+    case 14:
+      return "14-node pyramid";
+    case 17:
+      return "20-node hexahedron";
+    case 18:
+      return "15-node prism";
+    case 19:
+      return "13-node pyramid";
+    case 29:
+      return "20-node tetrahedron";
+    case 30:
+      return "35-node tetrahedron";
+    case 31:
+      return "56-node tetrahedron";
+    case 92:
+      return "64-node hexahedron";
+    case 93:
+      return "125-node hexahedron";
+    default:
+      return nullptr;
+  }
+}
 // Bounds the memory reserved from a count announced in the file, so a corrupt count fails on
 // the missing lines instead of on allocation.
 constexpr long long kMaxReserve = 1 << 16;
@@ -121,6 +160,14 @@ struct Parser {
     nodeLines.push_back(in.lineNumber());
   }
 
+  void refuseOtherVolume(long long elementTag, long long type) const {
+    if (const char* name = otherVolumeElement(type))
+      in.fail(
+          fmt::format("element {} is a {} (Gmsh type {}); expected linear tetrahedra (type 4), "
+                      "the only volume elements supported",
+                      elementTag, name, type));
+  }
+
   void addTet(long long elementTag, const std::vector<std::string_view>& f, size_t first,
               int region) {
     for (size_t k = first; k < first + 4; ++k) {
@@ -207,6 +254,7 @@ struct Parser {
           static_cast<long long>(f.size()) != 5 + numNodes)
         in.fail(
             fmt::format("expected {} fields in an element line, got {}", 5 + numNodes, f.size()));
+      refuseOtherVolume(tag, type);
       if (type == kTetType) addTet(tag, f, 5, physical);
     }
     sectionEnd("$ELM", "$ENDELM", n, "elements");
@@ -231,11 +279,13 @@ struct Parser {
       if (numNodes == 0) continue;
       if (numTags > static_cast<long long>(f.size()) ||
           static_cast<long long>(f.size()) != 3 + numTags + numNodes)
-        in.fail(fmt::format("expected {} fields in an element line, got {}",
-                            numTags > static_cast<long long>(f.size())
-                                ? fmt::format("3 + {} tags + {} nodes", numTags, numNodes)
-                                : fmt::format("{}", 3 + numTags + numNodes),
-                            f.size()));
+        in.fail(fmt::format(
+            "expected {} fields in an element line (3, {} tags, {} nodes of type "
+            "{}), got {}",
+            numTags > static_cast<long long>(f.size()) ? std::string("more")
+                                                       : fmt::format("{}", 3 + numTags + numNodes),
+            numTags, numNodes, type, f.size()));
+      refuseOtherVolume(tag, type);
       const int physical = numTags > 0 ? region(f[3], "the physical tag") : 0;
       if (type == kTetType) addTet(tag, f, 3 + numTags, physical);
     }
@@ -354,6 +404,11 @@ struct Parser {
       if (inBlock > n - done)
         in.fail(fmt::format("element blocks hold more than the {} elements announced", n));
       const int numNodes = nodesPerElement(type);
+      if (inBlock > 0 && otherVolumeElement(type))
+        in.fail(
+            fmt::format("an element block of {} elements of type {} ({}); expected linear "
+                        "tetrahedra (type 4), the only volume elements supported",
+                        inBlock, type, otherVolumeElement(type)));
       int physical = 0;
       if (dim == 3) {
         const auto it = volumePhysical.find(entity);

@@ -567,12 +567,21 @@ class LegacyParser {
                                 n, size, size, n, total));
   }
 
+  // Rows not one per line are read as a stream of values; a keyword met where a value should be
+  // means a count before it announced more ids than its row has.
   void readRowTokens(const Token& keyword, const CellBlock& block, long long n, long long size,
                      VtkCells& cells) {
+    const auto endsEarly = [&](const Token& t, const std::string& where) {
+      if (!t.text.empty() && std::isalpha(static_cast<unsigned char>(t.text[0])))
+        fail(t, fmt::format("the {} rows end {} (got '{}'); a point count among them announces "
+                            "more ids than its row has",
+                            keyword.text, where, excerpt(t.text)));
+    };
     long long k = 0;
     for (long long c = 0; c < n; ++c) {
       const Token countToken = token(
           [&] { return fmt::format("the point count of {} {} of {}", block.cellWord, c, n); });
+      endsEarly(countToken, fmt::format("after {} of their {} cells", c, n));
       const long long left = size - k - 1;
       const long long pointCount = integer(
           countToken, [&] { return fmt::format("the point count of {} {}", block.cellWord, c); });
@@ -585,6 +594,7 @@ class LegacyParser {
       for (long long i = 0; i < pointCount; ++i) {
         const Token idToken =
             token([&] { return fmt::format("point id {} of {} {}", i, block.cellWord, c); });
+        endsEarly(idToken, fmt::format("inside {} {}", block.cellWord, c));
         const long long id =
             integer(idToken, [&] { return fmt::format("a point id of {} {}", block.cellWord, c); });
         checkPointId(idToken, block, c, static_cast<double>(id));

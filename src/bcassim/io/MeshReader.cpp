@@ -50,10 +50,10 @@ TetMesh tetsOf(const io::VtkDataset& data, const std::string& regionField, MeshO
     }
     const io::VtkCellType& type = *io::findVtkCellType(cells.types[c]);
     if (type.dimension == 3)
-      throw InputError(
-          fmt::format("{}: cell {} is a {}; expected linear tetrahedra (VTK type {}), "
-                      "the only volume cells supported",
-                      data.cellLocation(c), c, io::describeVtkCellType(type), io::kVtkTetra));
+      throw InputError(fmt::format(
+          "{}: cell {} is a {} (VTK type {}); expected linear tetrahedra (VTK type {}), the only "
+          "volume cells supported",
+          data.cellLocation(c), c, type.name, type.id, io::kVtkTetra));
   }
   if (tetCells.empty())
     throw InputError(
