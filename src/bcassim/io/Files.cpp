@@ -1,11 +1,14 @@
 #include "bcassim/io/Files.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 
 #include "bcassim/Error.h"
 
@@ -17,20 +20,30 @@ void requireReadableFile(const std::string& path) {
     throw InputError(fmt::format("{}: cannot open file", path));
 }
 
-std::string readFileBytes(const std::string& path) {
+MappedFile::MappedFile(const std::string& path) {
   requireReadableFile(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open file", path));
-  std::string bytes;
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  if (size > 0) {
-    bytes.resize(static_cast<size_t>(size));
-    in.seekg(0);
-    in.read(bytes.data(), size);
-    if (in.gcount() != size) throw InputError(fmt::format("{}: cannot read file", path));
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) throw InputError(fmt::format("{}: cannot open file", path));
+  struct stat info;
+  if (::fstat(fd, &info) != 0) {
+    ::close(fd);
+    throw InputError(fmt::format("{}: cannot open file", path));
   }
-  return bytes;
+  size_ = static_cast<size_t>(info.st_size);
+  if (size_ > 0) {
+    void* map = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (map == MAP_FAILED) {
+      ::close(fd);
+      throw InputError(fmt::format("{}: cannot read file", path));
+    }
+    data_ = static_cast<const char*>(map);
+    mapped_ = true;
+  }
+  ::close(fd);
+}
+
+MappedFile::~MappedFile() {
+  if (mapped_) ::munmap(const_cast<char*>(data_), size_);
 }
 
 void createParentDirectory(const std::string& path) {

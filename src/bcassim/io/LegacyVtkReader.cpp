@@ -99,8 +99,8 @@ constexpr CellBlock kPolyBlocks[] = {{"VERTICES", "vertex cell", 1},
 
 class LegacyParser {
  public:
-  LegacyParser(std::string bytes, std::string source, VtkDataset::Kind expected)
-      : bytes_(std::move(bytes)), data_(bytes_), expected_(expected) {
+  LegacyParser(std::string_view bytes, std::string source, VtkDataset::Kind expected)
+      : data_(bytes), expected_(expected) {
     out_.kind = expected;
     out_.source = std::move(source);
   }
@@ -881,7 +881,6 @@ class LegacyParser {
     out_.cellArrays.push_back(std::move(array));
   }
 
-  const std::string bytes_;
   const std::string_view data_;
   const VtkDataset::Kind expected_;
   size_t pos_ = 0;
@@ -896,7 +895,8 @@ class LegacyParser {
 }  // namespace
 
 VtkDataset readLegacyVtk(const std::string& path, VtkDataset::Kind expected) {
-  return LegacyParser(readFileBytes(path), path, expected).parse();
+  const MappedFile file(path);
+  return LegacyParser(file.bytes(), path, expected).parse();
 }
 
 }  // namespace bcassim::io

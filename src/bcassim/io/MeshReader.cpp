@@ -40,7 +40,7 @@ const io::VtkArray* regionArray(const io::VtkDataset& data, const std::string& r
 
 // The linear tetrahedra of a VTK unstructured grid. Cells of lower dimension (boundary triangles,
 // lines) are ignored; other volume cells would leave holes, so they are refused.
-TetMesh tetsOf(const io::VtkDataset& data, const std::string& regionField, MeshOrigin& origin) {
+TetMesh tetsOf(io::VtkDataset&& data, const std::string& regionField, MeshOrigin& origin) {
   const io::VtkCells& cells = data.cells;
   std::vector<long long> tetCells;
   for (long long c = 0; c < cells.size(); ++c) {
@@ -60,7 +60,7 @@ TetMesh tetsOf(const io::VtkDataset& data, const std::string& regionField, MeshO
         fmt::format("{}: no tetrahedra (VTK_TETRA cells) among {} cells; expected a volume mesh",
                     data.source, cells.size()));
   TetMesh mesh;
-  mesh.V = data.points;
+  mesh.V = std::move(data.points);
   const Eigen::Index nt = static_cast<Eigen::Index>(tetCells.size());
   mesh.T.resize(nt, 4);
   origin.source = data.source;

@@ -23,7 +23,7 @@ constexpr size_t kBinaryTriangle = 50;
 
 // vtksys::SystemTools::DetectFileType, as vtkSTLReader uses it: text unless more than 5 % of the
 // first 256 bytes are neither printable nor blanks.
-bool looksLikeText(const std::string& bytes) {
+bool looksLikeText(std::string_view bytes) {
   const size_t n = std::min<size_t>(bytes.size(), 256);
   size_t binary = 0;
   for (size_t i = 0; i < n; ++i) {
@@ -94,7 +94,7 @@ float littleEndianFloat(const unsigned char* p) {
   return f;
 }
 
-TriMesh readBinaryStl(const std::string& path, const std::string& bytes) {
+TriMesh readBinaryStl(const std::string& path, std::string_view bytes) {
   if (bytes.size() < kBinaryHeader)
     throw InputError(
         fmt::format("{}: {} bytes; expected an ASCII STL starting with 'solid' or a "
@@ -214,10 +214,11 @@ TriMesh readAsciiStl(const std::string& path) {
 }  // namespace
 
 TriMesh readStl(const std::string& path) {
-  const std::string bytes = readFileBytes(path);
+  const MappedFile file(path);
+  const std::string_view bytes = file.bytes();
   const size_t first = bytes.find_first_not_of(" \t\r\n");
   const bool startsWithSolid =
-      first != std::string::npos && lower(bytes.substr(first, 5)) == "solid";
+      first != std::string_view::npos && lower(bytes.substr(first, 5)) == "solid";
   if (startsWithSolid && looksLikeText(bytes)) return readAsciiStl(path);
   return readBinaryStl(path, bytes);
 }

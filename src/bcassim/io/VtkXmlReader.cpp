@@ -55,6 +55,7 @@ class ByteSource {
   bool read(size_t n, std::string& out) {
     if (!base64_) {
       if (data_.size() - pos_ < n) return false;
+      out.reserve(out.size() + n);  // proved by the data: no repeated growth
       out.append(data_.substr(pos_, n));
       pos_ += n;
       return true;
@@ -62,6 +63,7 @@ class ByteSource {
     // Each group of 4 characters gives at most 3 bytes: refuse early what cannot be there.
     if (n > pending_.size() && (n - pending_.size()) / 3 > (data_.size() - pos_) / 4 + 1)
       return false;
+    pending_.reserve(n + 3);
     while (pending_.size() < n) {
       if (!decodeGroup()) return false;
     }
@@ -121,15 +123,15 @@ std::optional<VtkScalar> scalarNamed(std::string_view name) {
 
 class XmlReader {
  public:
-  XmlReader(std::string bytes, std::string source, VtkDataset::Kind expected)
-      : bytes_(std::move(bytes)), expected_(expected) {
+  XmlReader(std::string_view bytes, std::string source, VtkDataset::Kind expected)
+      : bytes_(bytes), expected_(expected) {
     out_.kind = expected;
     out_.source = std::move(source);
   }
 
   VtkDataset read() {
     const size_t first = bytes_.find_first_not_of(" \t\r\n");
-    if (first == std::string::npos || bytes_[first] != '<') notThisKind();
+    if (first == std::string_view::npos || bytes_[first] != '<') notThisKind();
     doc_ = scanXml(bytes_, out_.source);
     const XmlElement& root = doc_.elements[0];
     if (root.name != "VTKFile") notThisKind();
@@ -236,11 +238,11 @@ class XmlReader {
     if (numPoints > 0) {
       const std::vector<const XmlElement*> arrays = children(*points, "DataArray");
       if (arrays.empty()) fail(*points, "no <DataArray>; expected the coordinates");
-      // Allocated only once the data have proved the count.
-      const std::vector<double> coords = readArray(*arrays[0], numPoints, 3, Check::kFinite);
-      out_.points.resize(numPoints, 3);
-      for (long long i = 0; i < numPoints; ++i)
-        for (int k = 0; k < 3; ++k) out_.points(i, k) = coords[3 * i + k];
+      // Allocated only once the data have proved the count (decodeArray calls `reserve` then).
+      decodeArray(
+          *arrays[0], numPoints, 3, Check::kFinite,
+          [&](long long i, double x) { out_.points(i / 3, i % 3) = x; },
+          [&](long long) { out_.points.resize(numPoints, 3); });
     }
     long long numCells = 0;
     if (isGrid()) {
@@ -274,30 +276,27 @@ class XmlReader {
     if (!offsetsArray || !connArray)
       fail(*holder, "expected DataArrays named \"connectivity\" and \"offsets\"");
     if (typed) out_.cellsLine = holder->line;
-    // offsets[c] is where cell c ends in the connectivity.
-    const std::vector<double> ends = readArray(*offsetsArray, n, 1, Check::kInteger);
-    cells.offsets.resize(static_cast<size_t>(n) + 1);
-    double previous = 0;
-    for (long long c = 0; c < n; ++c) {
-      if (!(ends[c] >= previous) || ends[c] > static_cast<double>(kMaxValues))
+    // offsets[c] is where cell c ends in the connectivity; each value goes straight where it is
+    // kept, once the data have proved the count (no intermediate array).
+    cells.offsets.assign(1, 0);
+    decodeArray(*offsetsArray, n, 1, Check::kInteger, [&](long long c, double end) {
+      const double previous = static_cast<double>(cells.offsets.back());
+      if (!(end >= previous) || end > static_cast<double>(kMaxValues))
         fail(*offsetsArray, fmt::format("offset {} is {}; expected at least {} (offsets never "
                                         "decrease)",
-                                        c, ends[c], previous));
-      previous = ends[c];
-      cells.offsets[c + 1] = static_cast<long long>(ends[c]);
-    }
-    const std::vector<double> ids = readArray(*connArray, cells.offsets.back(), 1, Check::kInteger);
-    cells.connectivity.resize(ids.size());
+                                        c, end, previous));
+      cells.offsets.push_back(static_cast<long long>(end));
+    });
     long long cell = 0;
-    for (size_t i = 0; i < ids.size(); ++i) {
-      while (cells.offsets[cell + 1] <= static_cast<long long>(i)) ++cell;
-      if (!(ids[i] >= 0 && ids[i] < static_cast<double>(numPoints)))
+    cells.connectivity.clear();
+    decodeArray(*connArray, cells.offsets.back(), 1, Check::kInteger, [&](long long i, double id) {
+      while (cells.offsets[cell + 1] <= i) ++cell;
+      if (!(id >= 0 && id < static_cast<double>(numPoints)))
         fail(*connArray,
-             fmt::format("{} {} refers to point {}; the file has {} points{}", cellWord, cell,
-                         ids[i], numPoints,
-                         numPoints > 0 ? fmt::format(" (0 to {})", numPoints - 1) : ""));
-      cells.connectivity[i] = static_cast<int>(ids[i]);
-    }
+             fmt::format("{} {} refers to point {}; the file has {} points{}", cellWord, cell, id,
+                         numPoints, numPoints > 0 ? fmt::format(" (0 to {})", numPoints - 1) : ""));
+      cells.connectivity.push_back(static_cast<int>(id));
+    });
     if (!typed) {
       for (long long c = 0; c < n; ++c)
         if (cells.count(c) < minPoints)
@@ -307,21 +306,19 @@ class XmlReader {
     }
     const XmlElement* typesArray = namedArray(*holder, "types");
     if (!typesArray) fail(*holder, "expected a DataArray named \"types\"");
-    const std::vector<double> types = readArray(*typesArray, n, 1, Check::kInteger);
-    cells.types.resize(static_cast<size_t>(n));
-    for (long long c = 0; c < n; ++c) {
-      const VtkCellType* type = types[c] >= 0 && types[c] < 256
-                                    ? findVtkCellType(static_cast<long long>(types[c]))
-                                    : nullptr;
+    cells.types.clear();
+    decodeArray(*typesArray, n, 1, Check::kInteger, [&](long long c, double value) {
+      const VtkCellType* type =
+          value >= 0 && value < 256 ? findVtkCellType(static_cast<long long>(value)) : nullptr;
       if (!type)
-        fail(*typesArray, fmt::format("cell {} has the unknown VTK cell type {}", c, types[c]));
-      cells.types[c] = static_cast<unsigned char>(type->id);
+        fail(*typesArray, fmt::format("cell {} has the unknown VTK cell type {}", c, value));
+      cells.types.push_back(static_cast<unsigned char>(type->id));
       const std::string expected = vtkCellCountExpectation(*type, cells.count(c));
       if (!expected.empty())
         throw InputError(fmt::format("{}: cell {} ({}) has {} point ids; expected {}",
                                      out_.cellLocation(c), c, describeVtkCellType(*type),
                                      cells.count(c), expected));
-    }
+    });
   }
 
   void readCellArray(const XmlElement& e, long long numCells) {
@@ -342,9 +339,24 @@ class XmlReader {
   // What readArray requires of the values besides their count.
   enum class Check { kNone, kFinite, kInteger };
 
-  // The values of DataArray `e`: `tuples` tuples of `components` (0: as the element says).
+  // The values of DataArray `e`, `tuples` tuples of `components` (0: as the element says), as
+  // doubles.
   std::vector<double> readArray(const XmlElement& e, long long tuples, long long components,
                                 Check check) {
+    std::vector<double> values;
+    decodeArray(
+        e, tuples, components, check, [&](long long, double v) { values.push_back(v); },
+        [&](long long count) { values.reserve(static_cast<size_t>(count)); });
+    return values;
+  }
+
+  // Decodes DataArray `e` (`tuples` tuples of `components`, 0: as the element says), calling
+  // reserve(count) once the data have proved the count (before that, nothing is allocated from
+  // it), then sink(index, value) for each value in order.
+  template <class Sink, class Reserve = void (*)(long long)>
+  void decodeArray(
+      const XmlElement& e, long long tuples, long long components, Check check, Sink&& sink,
+      Reserve&& reserve = [](long long) {}) {
     const bool finite = check == Check::kFinite;
     const std::string* typeName = e.attribute("type");
     if (!typeName) fail(e, "no type attribute; expected one such as Float64 or Int64");
@@ -370,30 +382,32 @@ class XmlReader {
     const long long count = tuples * declared;
     const std::string* format = e.attribute("format");
     if (!format) fail(e, "no format attribute; expected ascii, binary or appended");
-    if (*format == "ascii") return readAscii(e, *type, count, finite);
+    if (*format == "ascii") return decodeAscii(e, *type, count, finite, sink, reserve);
     if (*format != "binary" && *format != "appended")
       fail(e, fmt::format("format=\"{}\"; expected ascii, binary or appended", excerpt(*format)));
     const int wordBytes = vtkScalarBytes(*type);
     const std::string bytes =
         binaryData(e, *format == "appended", static_cast<unsigned long long>(count) * wordBytes,
                    count, *typeName);
-    std::vector<double> values(static_cast<size_t>(count));
+    reserve(count);
     const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
     for (long long i = 0; i < count; ++i) {
-      values[i] = decodeVtkScalar(p + i * wordBytes, *type, bigEndian_);
-      if (finite && !std::isfinite(values[i]))
-        fail(e, fmt::format("point {} has a non-finite coordinate ({})", i / 3, values[i]));
+      const double v = decodeVtkScalar(p + i * wordBytes, *type, bigEndian_);
+      if (finite && !std::isfinite(v))
+        fail(e, fmt::format("point {} has a non-finite coordinate ({})", i / 3, v));
+      sink(i, v);
     }
-    return values;
   }
 
-  std::vector<double> readAscii(const XmlElement& e, VtkScalar type, long long count, bool finite) {
+  template <class Sink, class Reserve>
+  void decodeAscii(const XmlElement& e, VtkScalar type, long long count, bool finite, Sink& sink,
+                   Reserve& reserve) {
     size_t textBytes = 0;
     for (const auto& [begin, end] : e.text) textBytes += end - begin;
     if (count > static_cast<long long>(textBytes / 2 + 1))
       fail(e, fmt::format("{} ascii values cannot fit in its {} bytes of text", count, textBytes));
-    std::vector<double> values;
-    values.reserve(static_cast<size_t>(count));
+    reserve(count);
+    long long read = 0;
     int line = e.line;
     for (const auto& [begin, end] : e.text) {
       size_t p = begin;
@@ -403,8 +417,7 @@ class XmlReader {
         const size_t start = p;
         while (p < end && !isXmlSpace(bytes_[p])) ++p;
         const std::string_view token(bytes_.data() + start, p - start);
-        if (static_cast<long long>(values.size()) == count)
-          fail(e, fmt::format("holds more than the {} values expected", count));
+        if (read == count) fail(e, fmt::format("holds more than the {} values expected", count));
         double v = 0;
         const std::string why = parseVtkScalar(token, type, v);
         const auto failAt = [&](const std::string& what) {
@@ -413,12 +426,10 @@ class XmlReader {
         if (!why.empty()) failAt(fmt::format("value '{}': {}", excerpt(token), why));
         if (finite && !std::isfinite(v))
           failAt(fmt::format("value '{}' is not a finite number", excerpt(token)));
-        values.push_back(v);
+        sink(read++, v);
       }
     }
-    if (static_cast<long long>(values.size()) != count)
-      fail(e, fmt::format("holds {} values; expected {}", values.size(), count));
-    return values;
+    if (read != count) fail(e, fmt::format("holds {} values; expected {}", read, count));
   }
 
   unsigned long long headerWord(const std::string& bytes, size_t index) const {
@@ -446,10 +457,10 @@ class XmlReader {
                             bytes_.size() - appendedStart_));
       data = std::string_view(bytes_).substr(appendedStart_ + static_cast<size_t>(offset));
       base64 = !appendedRaw_;
+    } else if (e.text.size() == 1) {  // the usual case: read in place (blanks are skipped)
+      data = std::string_view(bytes_).substr(e.text[0].first, e.text[0].second - e.text[0].first);
     } else {
-      for (const auto& [begin, end] : e.text)
-        for (size_t p = begin; p < end; ++p)
-          if (!isXmlSpace(bytes_[p])) text += bytes_[p];
+      for (const auto& [begin, end] : e.text) text.append(bytes_.substr(begin, end - begin));
       data = text;
     }
     ByteSource source(data, base64);
@@ -499,7 +510,10 @@ class XmlReader {
     if (!source.read(static_cast<size_t>(blocks) * headerBytes_, sizes))
       fail(e, fmt::format("its data end inside the compression header of {} blocks", blocks));
     source.restart();
-    std::string bytes, block;
+    std::string bytes, block, decompressed;
+    // Capacity only (no page is touched until data are written), bounded as a lying header could
+    // make `expected` as large as 2^43 bytes.
+    bytes.reserve(static_cast<size_t>(std::min<unsigned long long>(expected, 1ULL << 28)));
     for (unsigned long long b = 0; b < blocks; ++b) {
       const unsigned long long compressedSize = headerWord(sizes, b);
       const unsigned long long blockBytes = b + 1 == blocks && lastSize > 0 ? lastSize : blockSize;
@@ -507,18 +521,19 @@ class XmlReader {
       if (compressedSize > INT_MAX || !source.read(static_cast<size_t>(compressedSize), block))
         fail(e, fmt::format("its data end inside compressed block {} of {} ({} bytes)", b, blocks,
                             compressedSize));
-      if (!decompress(block, blockBytes, bytes))
+      if (!decompress(block, blockBytes, decompressed))
         fail(e, fmt::format("compressed block {} of {} does not decompress to its {} bytes", b,
                             blocks, blockBytes));
+      bytes += decompressed;
     }
     return bytes;
   }
 
-  // Appends `size` bytes decompressed from `in`; false when `in` is not a block of that size.
+  // `size` bytes decompressed from `in` into `out` (a buffer reused from block to block); false
+  // when `in` is not a block of that size.
   bool decompress(const std::string& in, unsigned long long size, std::string& out) const {
-    const size_t start = out.size();
-    out.resize(start + static_cast<size_t>(size));
-    auto* dst = reinterpret_cast<unsigned char*>(out.data() + start);
+    out.resize(static_cast<size_t>(size));
+    auto* dst = reinterpret_cast<unsigned char*>(out.data());
     const auto* src = reinterpret_cast<const unsigned char*>(in.data());
     switch (compressor_) {
       case Compressor::kZlib: {
@@ -543,7 +558,7 @@ class XmlReader {
     return false;
   }
 
-  const std::string bytes_;
+  const std::string_view bytes_;
   const VtkDataset::Kind expected_;
   XmlDocument doc_;
   bool bigEndian_ = false;
@@ -557,7 +572,8 @@ class XmlReader {
 }  // namespace
 
 VtkDataset readVtkXml(const std::string& path, VtkDataset::Kind expected) {
-  return XmlReader(readFileBytes(path), path, expected).read();
+  const MappedFile file(path);
+  return XmlReader(file.bytes(), path, expected).read();
 }
 
 }  // namespace bcassim::io

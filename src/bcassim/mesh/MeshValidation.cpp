@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <unordered_map>
 
 #include "bcassim/Error.h"
 
@@ -41,29 +40,32 @@ std::string tetName(const MeshOrigin& o, Eigen::Index t) {
   return fmt::format("{} {}{}", o.tetWord, number, line);
 }
 
-struct SortedTetHash {
-  size_t operator()(const std::array<int, 4>& k) const {
-    size_t h = 0;
-    for (int v : k) h = h * 1000003u ^ static_cast<size_t>(v);
-    return h;
-  }
-};
-
 void checkTetNodes(const TetMesh& mesh, const MeshOrigin& origin) {
-  std::unordered_map<std::array<int, 4>, Eigen::Index, SortedTetHash> seen;
-  seen.reserve(static_cast<size_t>(mesh.numTets()));
+  // Duplicates by sorting the tets' sorted node lists (faster than hashing on large meshes); the
+  // tet reported is the first in file order that repeats an earlier one.
+  std::vector<std::pair<std::array<int, 4>, Eigen::Index>> keys(
+      static_cast<size_t>(mesh.numTets()));
   for (Eigen::Index t = 0; t < mesh.numTets(); ++t) {
-    std::array<int, 4> key = {mesh.T(t, 0), mesh.T(t, 1), mesh.T(t, 2), mesh.T(t, 3)};
+    std::array<int, 4>& key = keys[t].first;
+    key = {mesh.T(t, 0), mesh.T(t, 1), mesh.T(t, 2), mesh.T(t, 3)};
     std::sort(key.begin(), key.end());
+    keys[t].second = t;
     for (int k = 0; k < 3; ++k)
       if (key[k] == key[k + 1])
         throw InputError(fmt::format("{} lists {} twice; expected 4 distinct nodes",
                                      tetAt(origin, t), nodeName(origin, key[k])));
-    const auto [it, inserted] = seen.emplace(key, t);
-    if (!inserted)
-      throw InputError(fmt::format("{} has the same 4 nodes as {}; expected each tetrahedron once",
-                                   tetAt(origin, t), tetName(origin, it->second)));
   }
+  std::sort(keys.begin(), keys.end());
+  Eigen::Index repeat = -1, original = -1;
+  for (size_t i = 1; i < keys.size(); ++i)
+    if (keys[i].first == keys[i - 1].first && (repeat < 0 || keys[i].second < repeat) &&
+        (i < 2 || keys[i - 2].first != keys[i].first)) {
+      repeat = keys[i].second;
+      original = keys[i - 1].second;
+    }
+  if (repeat >= 0)
+    throw InputError(fmt::format("{} has the same 4 nodes as {}; expected each tetrahedron once",
+                                 tetAt(origin, repeat), tetName(origin, original)));
   std::vector<char> used(static_cast<size_t>(mesh.numNodes()), 0);
   for (Eigen::Index t = 0; t < mesh.numTets(); ++t)
     for (int k = 0; k < 4; ++k) used[mesh.T(t, k)] = 1;
