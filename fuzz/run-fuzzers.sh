@@ -21,7 +21,8 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
 fi
 build_targets=()
 for t in $TARGETS; do build_targets+=("fuzz_$t"); done
-cmake --build "$BUILD" -j"$JOBS" --target "${build_targets[@]}" || exit 1
+cmake --build "$BUILD" -j"$JOBS" --target "${build_targets[@]}" > "$BUILD.build.log" 2>&1 ||
+  { tail -40 "$BUILD.build.log"; exit 1; }
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
@@ -30,7 +31,7 @@ printf '%-12s %14s %8s  %s\n' target executions seconds result
 for t in $TARGETS; do
   mkdir -p "$BUILD/corpus/$t" "$BUILD/findings/$t"
   log="$BUILD/findings/$t.log"
-  "$BUILD/fuzz_$t" -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb=2048 \
+  "$BUILD/fuzz/fuzz_$t" -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb=2048 \
     -malloc_limit_mb=1024 -max_len=65536 -print_final_stats=1 \
     -artifact_prefix="$BUILD/findings/$t/" "$BUILD/corpus/$t" "fuzz/corpus/$t" > "$log" 2>&1
   status=$?

@@ -9,19 +9,22 @@
 #include <set>
 #include <string>
 
+#include "bcassim/Error.h"
+#include "bcassim/io/BinaryArchive.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
 namespace {
 
 // How a file is read: tet meshes by `mesh info`, surfaces by `atlas distance` (the file twice: the
-// first read fails).
+// first read fails); checkpoints in-process, as `--resume` opens them (openCheckpoint).
 constexpr const char* kMeshInfo = "mesh info {0}";
 constexpr const char* kSurfaceRead = "atlas distance {0} {0}";
+constexpr const char* kCheckpoint = "(openCheckpoint)";
 
 struct BadInput {
   const char* file;     // in tests/data/bad/
-  const char* command;  // {0} stands for the file's path
+  const char* command;  // {0} stands for the file's path, or kCheckpoint
   const char* message;  // after "bcassim: error: <path>"
 };
 
@@ -109,6 +112,10 @@ const BadInput kCatalogue[] = {
      ":3: expected a number for vertex coordinate z, got '\\x1b[2J'"},
     {"vtk-polygon-with-2-points.vtk", kSurfaceRead,
      ":11: polygon 1 has 2 point ids; expected at least 3"},
+    // Found by fuzz_checkpoint: the scene key stored in a checkpoint was printed raw.
+    {"checkpoint-key-with-line-break.bin", kCheckpoint,
+     ": written for another scene (\\x0a\\x00\\x00\\x00\\x00\\x00\\x00\\x00fuzz sceneN); "
+     "this scene is fuzz scene"},
 };
 
 std::filesystem::path badDir() {
@@ -121,6 +128,15 @@ TEST_P(BadInputCatalogue, ExitCode2AndTheExactOneLineMessage) {
   const BadInput& bad = GetParam();
   const std::string path = (badDir() / bad.file).string();
   ASSERT_TRUE(std::filesystem::is_regular_file(path)) << path;
+  if (bad.command == kCheckpoint) {
+    try {
+      openCheckpoint(path, "simulation", "fuzz scene");
+      ADD_FAILURE() << "expected an InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.what(), fmt::format("{}{}", path, bad.message));
+    }
+    return;
+  }
   const test::CliResult r =
       test::runBcassim(test::freshDir(), fmt::format(fmt::runtime(bad.command), "'" + path + "'"));
   EXPECT_EQ(r.exitCode, 2);

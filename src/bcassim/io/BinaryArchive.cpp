@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "bcassim/Error.h"
+#include "bcassim/io/TextLines.h"
 
 namespace bcassim {
 namespace {
@@ -131,8 +132,8 @@ ArchiveReader openCheckpoint(const std::string& path, const std::string& kind,
     throw InputError(fmt::format("{}: not a bcassim {} checkpoint", path, kind));
   const std::string written = in.text();
   if (written != key)
-    throw InputError(
-        fmt::format("{}: written for another scene ({}); this scene is {}", path, written, key));
+    throw InputError(fmt::format("{}: written for another scene ({}); this scene is {}", path,
+                                 io::excerpt(written, 1000), key));
   return in;
 }
 
