@@ -15,6 +15,7 @@
 #include "bcassim/io/BinaryArchive.h"
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/io/MeshReader.h"
+#include "bcassim/io/PvdSeries.h"
 #include "bcassim/io/SurfaceReader.h"
 #include "io/IoTestSupport.h"
 
@@ -267,6 +268,22 @@ TEST(BinaryArchive, SizesBeyondTheFileAreDamageNotAllocations) {
   writeText(path, matrix);
   EXPECT_INPUT_ERROR(path + ": damaged (expected a matrix)",
                      ArchiveReader(path, "a test").matrix());
+}
+
+// A damaged series index met on --resume: one line, never std::stoi's exception or a part number
+// sized like memory.
+TEST(PvdSeries, DamagedIndexOnResume) {
+  TempDir dir;
+  const std::string pvd = writeText(
+      dir.file("liver.pvd"),
+      "<VTKFile type=\"Collection\">\n<Collection>\n"
+      "<DataSet timestep=\"0\" group=\"\" part=\"99999999999\" file=\"liver_000000.vtu\"/>\n"
+      "</Collection>\n</VTKFile>\n");
+  EXPECT_INPUT_ERROR(pvd +
+                         ":3: expected timestep=\"<s>\" and part=\"<0 to 1000>\", got "
+                         "'<DataSet timestep=\"0\" group=\"\" part=\"99999999999\" "
+                         "file=\"liver_000000.vtu\"/>'",
+                     PvdSeries::resume(dir.path(), "liver", 1));
 }
 
 }  // namespace
