@@ -513,7 +513,7 @@ class XmlReader {
     std::string bytes, block, decompressed;
     // Capacity only (no page is touched until data are written), bounded as a lying header could
     // make `expected` as large as 2^43 bytes.
-    bytes.reserve(static_cast<size_t>(std::min<unsigned long long>(expected, 1ULL << 28)));
+    bytes.reserve(static_cast<size_t>(std::min<unsigned long long>(expected, 1ULL << 26)));
     for (unsigned long long b = 0; b < blocks; ++b) {
       const unsigned long long compressedSize = headerWord(sizes, b);
       const unsigned long long blockBytes = b + 1 == blocks && lastSize > 0 ? lastSize : blockSize;
