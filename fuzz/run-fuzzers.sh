@@ -21,8 +21,8 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
 fi
 build_targets=()
 for t in $TARGETS; do build_targets+=("fuzz_$t"); done
-cmake --build "$BUILD" -j"$JOBS" --target "${build_targets[@]}" > "$BUILD.build.log" 2>&1 ||
-  { tail -40 "$BUILD.build.log"; exit 1; }
+cmake --build "$BUILD" -j"$JOBS" --target "${build_targets[@]}" > "$BUILD/fuzz-build.log" 2>&1 ||
+  { tail -40 "$BUILD/fuzz-build.log"; exit 1; }
 
 # A small quarantine keeps memory (and page faults) low: 2 to 3 times the executions.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:quarantine_size_mb=16:malloc_context_size=10}
