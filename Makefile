@@ -9,7 +9,7 @@ export BCASSIM_DATA
 OMP_THREAD_LIMIT ?= 1
 export OMP_THREAD_LIMIT
 
-.PHONY: all deps configure build test lint demo bench clean
+.PHONY: all deps configure build test lint demo bench fuzz clean
 
 all: build
 
@@ -39,5 +39,11 @@ demo: configure
 bench: build
 	@bash scripts/bench.sh $(BUILD)
 
+# Fuzzing: every reader's libFuzzer target (fuzz/; clang-14 with AddressSanitizer and UBSan, built
+# in build-fuzz/) runs for FUZZ_SECONDS seconds each; any crash, hang or leak fails it.
+FUZZ_SECONDS ?= 60
+fuzz: deps
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) JOBS=$(JOBS) bash fuzz/run-fuzzers.sh
+
 clean:
-	rm -rf $(BUILD) $(BUILD).configure.log out
+	rm -rf $(BUILD) $(BUILD).configure.log build-fuzz build-fuzz.configure.log out

@@ -194,7 +194,9 @@ TEST(GmshReader, WrongFieldCountInElementLine) {
   std::string text = cubeV2();
   text.replace(text.find("11 15 17 14"), 11, "11 15 17");
   const std::string path = writeText(dir.file("bad.msh"), text);
-  EXPECT_INPUT_ERROR(path + ":26: expected 9 fields in an element line, got 8", readTetMesh(path));
+  EXPECT_INPUT_ERROR(
+      path + ":26: expected 9 fields in an element line (3, 2 tags, 4 nodes of type 4), got 8",
+      readTetMesh(path));
 }
 
 TEST(GmshReader, BinaryIsRejected) {
@@ -229,8 +231,9 @@ TEST(GmshReader, InvertedTet) {
   std::string text = cubeV2();
   text.replace(text.find("11 15 17 14"), 11, "11 17 15 14");
   const std::string path = writeText(dir.file("inv.msh"), text);
+  // Named by its element tag and line, as the file numbers it (it is the third tet).
   EXPECT_INPUT_ERROR(path +
-                         ": tet 2 is inverted (signed volume -0.167 m^3); expected the same "
+                         ":26: element 5 is inverted (signed volume -0.167 m^3); expected the same "
                          "orientation as the other tets",
                      readTetMesh(path));
 }

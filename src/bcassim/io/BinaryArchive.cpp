@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 
 #include "bcassim/Error.h"
+#include "bcassim/io/TextLines.h"
 
 namespace bcassim {
 namespace {
@@ -56,6 +58,14 @@ void ArchiveWriter::commit() {
 ArchiveReader::ArchiveReader(std::string path, const std::string& whatFor)
     : path_(std::move(path)), in_(path_, std::ios::binary) {
   if (!in_) throw InputError(fmt::format("{}: cannot open ({})", path_, whatFor));
+  in_.seekg(0, std::ios::end);
+  size_ = static_cast<std::uint64_t>(std::max<std::streamoff>(in_.tellg(), 0));
+  in_.seekg(0);
+}
+
+std::uint64_t ArchiveReader::bytesLeft() {
+  const std::streamoff at = in_.tellg();
+  return at < 0 || static_cast<std::uint64_t>(at) > size_ ? 0 : size_ - at;
 }
 
 void ArchiveReader::expect(char tag, const char* what) {
@@ -68,7 +78,9 @@ std::string ArchiveReader::text() {
   expect(kText, "a text");
   std::uint64_t n = 0;
   in_.read(reinterpret_cast<char*>(&n), sizeof n);
-  if (!in_ || n > (1u << 26)) throw InputError(fmt::format("{}: damaged (expected a text)", path_));
+  // A length beyond the bytes left is damage, refused before anything is allocated for it.
+  if (!in_ || n > (1u << 26) || n > bytesLeft())
+    throw InputError(fmt::format("{}: damaged (expected a text)", path_));
   std::string s(n, '\0');
   in_.read(s.data(), static_cast<std::streamsize>(n));
   if (!in_) throw InputError(fmt::format("{}: damaged (expected a text)", path_));
@@ -88,7 +100,8 @@ Eigen::MatrixXd ArchiveReader::matrix() {
   std::int64_t rows = -1, cols = -1;
   in_.read(reinterpret_cast<char*>(&rows), sizeof rows);
   in_.read(reinterpret_cast<char*>(&cols), sizeof cols);
-  if (!in_ || rows < 0 || cols < 0 || rows * cols > (std::int64_t{1} << 32))
+  if (!in_ || rows < 0 || cols < 0 ||
+      (cols > 0 && static_cast<std::uint64_t>(rows) > bytesLeft() / sizeof(double) / cols))
     throw InputError(fmt::format("{}: damaged (expected a matrix)", path_));
   Eigen::MatrixXd m(rows, cols);
   in_.read(reinterpret_cast<char*>(m.data()),
@@ -119,8 +132,8 @@ ArchiveReader openCheckpoint(const std::string& path, const std::string& kind,
     throw InputError(fmt::format("{}: not a bcassim {} checkpoint", path, kind));
   const std::string written = in.text();
   if (written != key)
-    throw InputError(
-        fmt::format("{}: written for another scene ({}); this scene is {}", path, written, key));
+    throw InputError(fmt::format("{}: written for another scene ({}); this scene is {}", path,
+                                 io::excerpt(written, 1000), key));
   return in;
 }
 

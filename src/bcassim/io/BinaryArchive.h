@@ -2,6 +2,7 @@
 // to a temporary file and renamed over the target so that a crash never leaves half a file.
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <fstream>
 #include <string>
 
@@ -35,8 +36,10 @@ class ArchiveReader {
 
  private:
   void expect(char tag, const char* what);
+  std::uint64_t bytesLeft();
   std::string path_;
   std::ifstream in_;
+  std::uint64_t size_ = 0;
 };
 
 // A checkpoint's header: "bcassim KIND checkpoint 1", then the key of the run it belongs to.

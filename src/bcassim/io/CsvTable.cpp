@@ -38,13 +38,16 @@ CsvTable readCsvTable(const std::string& path) {
   size_t columns = 0;
   bool first = true;
   auto fieldName = [&](size_t k) {
-    return k < table.header.size() && !table.header[k].empty() ? table.header[k]
+    return k < table.header.size() && !table.header[k].empty() ? io::excerpt(table.header[k])
                                                                : fmt::format("{}", k + 1);
   };
   auto columnList = [&] {
     std::string list;
-    for (size_t k = 0; k < table.header.size(); ++k) list += (k ? "," : "") + table.header[k];
-    return list;
+    for (size_t k = 0; k < table.header.size(); ++k) {
+      if (k) list += ',';
+      list += io::excerpt(table.header[k]);
+    }
+    return io::excerpt(list, 200);
   };
   while (in.next()) {
     const std::string_view line = io::trim(in.line());

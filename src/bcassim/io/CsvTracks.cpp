@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -9,6 +10,7 @@
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/CsvTruncate.h"
 #include "bcassim/io/Files.h"
+#include "bcassim/io/TextLines.h"
 
 namespace bcassim {
 namespace {
@@ -16,6 +18,8 @@ namespace {
 const std::vector<std::string> kColumns = {"time", "marker", "x", "y", "z"};
 // A marker index is a small count; a huge one is a corrupt file, not a reason to allocate.
 constexpr long long kMaxMarkers = 1000000;
+// Dense frames up to this many marker rows are allowed however sparse the file (8 MiB of doubles).
+constexpr long long kMinDenseRows = 1 << 20;
 
 }  // namespace
 
@@ -50,7 +54,7 @@ MarkerTracks readMarkerTracks(const std::string& path) {
   const CsvTable table = readCsvTable(path);
   if (!table.header.empty() && table.header != kColumns)
     throw InputError(fmt::format("{}: header is '{}'; expected time,marker,x,y,z", path,
-                                 fmt::join(table.header, ",")));
+                                 io::excerpt(fmt::format("{}", fmt::join(table.header, ",")), 80)));
   if (table.rows.cols() != 5)
     throw InputError(fmt::format("{}:{}: expected 5 fields (time,marker,x,y,z), got {}", path,
                                  table.lines.front(), table.rows.cols()));
@@ -85,6 +89,15 @@ MarkerTracks readMarkerTracks(const std::string& path) {
     maxMarker = std::max(maxMarker, m);
   }
   tracks.numMarkers = static_cast<int>(maxMarker + 1);
+  // Frames are stored dense (a NaN row per missing marker): a few rows numbering markers far apart
+  // would otherwise allocate frames x markers rows from a small file.
+  const long long rows = table.rows.rows();
+  const long long cells = static_cast<long long>(frameRows.size()) * tracks.numMarkers;
+  if (cells > std::max(kMinDenseRows, 16 * rows))
+    throw InputError(fmt::format(
+        "{}: {} rows give {} frames of {} markers ({} marker rows, {} of them missing); expected "
+        "markers numbered 0, 1, 2, ... with most present in every frame",
+        path, rows, frameRows.size(), tracks.numMarkers, cells, cells - rows));
   for (const auto& rows : frameRows) {
     Eigen::MatrixX3d frame =
         Eigen::MatrixX3d::Constant(tracks.numMarkers, 3, std::numeric_limits<double>::quiet_NaN());

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <string_view>
 #include <unordered_map>
@@ -28,9 +29,48 @@ int nodesPerElement(long long type) {
 }
 
 constexpr long long kTetType = 4;
+
+// The volume element types other than the linear tetrahedron, which would leave holes if they
+// were dropped as lower-dimensional elements are; nullptr for the others.
+const char* otherVolumeElement(long long type) {
+  switch (type) {
+    case 5:
+      return "hexahedron";
+    case 6:
+      return "prism";
+    case 7:
+      return "pyramid";
+    case 11:
+      return "10-node tetrahedron";
+    case 12:
+      return "27-node hexahedron";
+    case 13:
+      return "18-node prism";
+    case 14:
+      return "14-node pyramid";
+    case 17:
+      return "20-node hexahedron";
+    case 18:
+      return "15-node prism";
+    case 19:
+      return "13-node pyramid";
+    case 29:
+      return "20-node tetrahedron";
+    case 30:
+      return "35-node tetrahedron";
+    case 31:
+      return "56-node tetrahedron";
+    case 92:
+      return "64-node hexahedron";
+    case 93:
+      return "125-node hexahedron";
+    default:
+      return nullptr;
+  }
+}
 // Bounds the memory reserved from a count announced in the file, so a corrupt count fails on
 // the missing lines instead of on allocation.
-constexpr long long kMaxReserve = 1 << 20;
+constexpr long long kMaxReserve = 1 << 16;
 
 struct Parser {
   explicit Parser(const std::string& path) : in(path) {}
@@ -41,6 +81,8 @@ struct Parser {
   std::unordered_map<long long, int> nodeIndex;
   std::vector<int> tets;  // 4 node indices per tet
   std::vector<int> regions;
+  std::vector<long long> nodeTags, elementTags;  // as the file numbers them, for messages
+  std::vector<int> nodeLines, elementLines;
   std::unordered_map<long long, int> volumePhysical;  // v4.1 $Entities: volume tag -> physical tag
   bool sawNodes = false;
 
@@ -79,7 +121,16 @@ struct Parser {
 
   [[noreturn]] void truncated(std::string_view section, std::string_view expectation) const {
     throw InputError(fmt::format("{}: unexpected end of file in {} (line {}); {}", in.path(),
-                                 section, in.lineNumber(), expectation));
+                                 io::excerpt(section), in.lineNumber(), expectation));
+  }
+
+  // A region id: a physical tag that fits the int regions are stored in.
+  int region(std::string_view field, std::string_view what) const {
+    const long long v = integer(field, what);
+    if (v < INT_MIN || v > INT_MAX)
+      in.fail(fmt::format("{} {} is out of range; expected an integer from {} to {}", what, v,
+                          INT_MIN, INT_MAX));
+    return static_cast<int>(v);
   }
 
   // Reads the line of entry `done` of `total` in `section`; a section end or end of file before
@@ -103,11 +154,22 @@ struct Parser {
     const int index = static_cast<int>(coords.size() / 3);
     if (!nodeIndex.emplace(tag, index).second)
       in.fail(fmt::format("node {} is defined twice", tag));
+    if (index == INT_MAX) in.fail(fmt::format("more than {} nodes", INT_MAX));
     coords.insert(coords.end(), {x, y, z});
+    nodeTags.push_back(tag);
+    nodeLines.push_back(in.lineNumber());
+  }
+
+  void refuseOtherVolume(long long elementTag, long long type) const {
+    if (const char* name = otherVolumeElement(type))
+      in.fail(
+          fmt::format("element {} is a {} (Gmsh type {}); expected linear tetrahedra (type 4), "
+                      "the only volume elements supported",
+                      elementTag, name, type));
   }
 
   void addTet(long long elementTag, const std::vector<std::string_view>& f, size_t first,
-              long long region) {
+              int region) {
     for (size_t k = first; k < first + 4; ++k) {
       const long long tag = integer(f[k], "a node tag");
       const auto it = nodeIndex.find(tag);
@@ -116,7 +178,9 @@ struct Parser {
                             elementTag, tag));
       tets.push_back(it->second);
     }
-    regions.push_back(static_cast<int>(region));
+    regions.push_back(region);
+    elementTags.push_back(elementTag);
+    elementLines.push_back(in.lineNumber());
   }
 
   void meshFormat() {
@@ -180,15 +244,17 @@ struct Parser {
         in.fail(fmt::format("expected at least 5 fields in an element line, got {}", f.size()));
       const long long tag = integer(f[0], "the element number");
       const long long type = integer(f[1], "the element type");
-      const long long physical = integer(f[2], "the physical region");
+      const int physical = region(f[2], "the physical region");
       const long long numNodes = count(f[4], "number of nodes");
       const int expectedNodes = nodesPerElement(type);
       if (expectedNodes && numNodes != expectedNodes)
         in.fail(fmt::format("element type {} has {} nodes, but the line announces {}", type,
                             expectedNodes, numNodes));
-      if (static_cast<long long>(f.size()) != 5 + numNodes)
+      if (numNodes > static_cast<long long>(f.size()) ||
+          static_cast<long long>(f.size()) != 5 + numNodes)
         in.fail(
             fmt::format("expected {} fields in an element line, got {}", 5 + numNodes, f.size()));
+      refuseOtherVolume(tag, type);
       if (type == kTetType) addTet(tag, f, 5, physical);
     }
     sectionEnd("$ELM", "$ENDELM", n, "elements");
@@ -211,10 +277,16 @@ struct Parser {
       const long long numTags = count(f[2], "number of tags");
       const int numNodes = nodesPerElement(type);
       if (numNodes == 0) continue;
-      if (static_cast<long long>(f.size()) != 3 + numTags + numNodes)
-        in.fail(fmt::format("expected {} fields in an element line, got {}", 3 + numTags + numNodes,
-                            f.size()));
-      const long long physical = numTags > 0 ? integer(f[3], "the physical tag") : 0;
+      if (numTags > static_cast<long long>(f.size()) ||
+          static_cast<long long>(f.size()) != 3 + numTags + numNodes)
+        in.fail(fmt::format(
+            "expected {} fields in an element line (3, {} tags, {} nodes of type "
+            "{}), got {}",
+            numTags > static_cast<long long>(f.size()) ? std::string("more")
+                                                       : fmt::format("{}", 3 + numTags + numNodes),
+            numTags, numNodes, type, f.size()));
+      refuseOtherVolume(tag, type);
+      const int physical = numTags > 0 ? region(f[3], "the physical tag") : 0;
       if (type == kTetType) addTet(tag, f, 3 + numTags, physical);
     }
     sectionEnd("$Elements", "$EndElements", n, "elements");
@@ -227,8 +299,13 @@ struct Parser {
     if (header.size() != 4)
       in.fail(fmt::format("expected 4 fields (entity counts), got {}", header.size()));
     long long counts[4];
-    for (int d = 0; d < 4; ++d) counts[d] = count(header[d], "entity count");
-    const long long total = counts[0] + counts[1] + counts[2] + counts[3];
+    long long total = 0;
+    for (int d = 0; d < 4; ++d) {
+      counts[d] = count(header[d], "entity count");
+      // Each entity takes a line, so counts beyond 2^40 are corrupt (and their sum would overflow).
+      if (counts[d] > (1LL << 40)) in.fail(fmt::format("entity count {} is too large", counts[d]));
+      total += counts[d];
+    }
     long long done = 0;
     for (int dim = 0; dim < 4; ++dim) {
       for (long long i = 0; i < counts[dim]; ++i, ++done) {
@@ -240,10 +317,11 @@ struct Parser {
               fmt::format("expected at least 8 fields in a volume entity line, got {}", f.size()));
         const long long tag = integer(f[0], "the volume tag");
         const long long numPhysical = count(f[7], "number of physical tags");
-        if (static_cast<long long>(f.size()) < 8 + numPhysical)
+        if (numPhysical > static_cast<long long>(f.size()) ||
+            static_cast<long long>(f.size()) < 8 + numPhysical)
           in.fail(fmt::format("expected at least {} fields in a volume entity line, got {}",
                               8 + numPhysical, f.size()));
-        if (numPhysical > 0) volumePhysical[tag] = static_cast<int>(integer(f[8], "physical tag"));
+        if (numPhysical > 0) volumePhysical[tag] = region(f[8], "physical tag");
       }
     }
     sectionEnd("$Entities", "$EndEntities", total, "entities");
@@ -274,7 +352,7 @@ struct Parser {
       const long long dim = integer(f[0], "the entity dimension");
       const bool parametric = integer(f[2], "the parametric flag") != 0;
       const long long inBlock = count(f[3], "number of nodes in the block");
-      if (done + inBlock > n)
+      if (inBlock > n - done)
         in.fail(fmt::format("node blocks hold more than the {} nodes announced", n));
       tags.clear();
       for (long long i = 0; i < inBlock; ++i) {
@@ -323,10 +401,15 @@ struct Parser {
       const long long entity = integer(f[1], "the entity tag");
       const long long type = integer(f[2], "the element type");
       const long long inBlock = count(f[3], "number of elements in the block");
-      if (done + inBlock > n)
+      if (inBlock > n - done)
         in.fail(fmt::format("element blocks hold more than the {} elements announced", n));
       const int numNodes = nodesPerElement(type);
-      long long physical = 0;
+      if (inBlock > 0 && otherVolumeElement(type))
+        in.fail(
+            fmt::format("an element block of {} elements of type {} ({}); expected linear "
+                        "tetrahedra (type 4), the only volume elements supported",
+                        inBlock, type, otherVolumeElement(type)));
+      int physical = 0;
       if (dim == 3) {
         const auto it = volumePhysical.find(entity);
         if (it != volumePhysical.end()) physical = it->second;
@@ -348,12 +431,12 @@ struct Parser {
   void skipSection(std::string_view name) {
     const std::string end = fmt::format("$End{}", name.substr(1));
     while (true) {
-      if (!nextLine()) truncated(name, fmt::format("expected {}", end));
+      if (!nextLine()) truncated(name, fmt::format("expected {}", io::excerpt(end)));
       if (io::trim(in.line()) == end) return;
     }
   }
 
-  TetMesh parse() {
+  TetMesh parse(MeshOrigin* origin) {
     bool sawElements = false;
     while (nextLine()) {
       const std::string section(io::trim(in.line()));
@@ -398,12 +481,23 @@ struct Parser {
     mesh.T = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>>(tets.data(),
                                                                                       nt, 4);
     mesh.region = Eigen::Map<const Eigen::VectorXi>(regions.data(), nt);
+    if (origin) {
+      origin->source = in.path();
+      origin->nodeWord = "node";
+      origin->nodeNumbers = std::move(nodeTags);
+      origin->nodeLines = std::move(nodeLines);
+      origin->tetWord = "element";
+      origin->tetNumbers = std::move(elementTags);
+      origin->tetLines = std::move(elementLines);
+    }
     return mesh;
   }
 };
 
 }  // namespace
 
-TetMesh readGmshTetMesh(const std::string& path) { return Parser(path).parse(); }
+TetMesh readGmshTetMesh(const std::string& path, MeshOrigin* origin) {
+  return Parser(path).parse(origin);
+}
 
 }  // namespace bcassim

@@ -3,6 +3,7 @@
 #pragma once
 #include <string>
 
+#include "bcassim/mesh/MeshValidation.h"
 #include "bcassim/mesh/TetMesh.h"
 
 namespace bcassim {
@@ -11,6 +12,7 @@ namespace bcassim {
 // ignored. Region is the physical tag (0 when the element has none). The mesh is not validated:
 // readTetMesh() is the entry point that also checks it. Throws InputError naming file and line,
 // e.g. "mesh.msh:57: expected 8 fields in an element line, got 6". Binary files are rejected.
-TetMesh readGmshTetMesh(const std::string& path);
+// `origin`, when given, receives the node and element tags and lines for validateTetMesh().
+TetMesh readGmshTetMesh(const std::string& path, MeshOrigin* origin = nullptr);
 
 }  // namespace bcassim

@@ -12,6 +12,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/io/MeshWriter.h"
+#include "bcassim/io/TextLines.h"
 
 namespace bcassim {
 namespace {
@@ -45,9 +46,20 @@ std::vector<PvdEntry> readPvdIndex(const std::string& pvdPath) {
   const std::regex entry(R"re(timestep="([^"]+)"[^>]*part="(\d+)"[^>]*file="([^"]+)")re");
   std::vector<PvdEntry> entries;
   std::smatch m;
-  for (std::string line; std::getline(in, line);)
-    if (std::regex_search(line, m, entry))
-      entries.push_back({std::stod(m[1].str()), std::stoi(m[2].str()), m[3].str()});
+  int lineNumber = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++lineNumber;
+    if (!std::regex_search(line, m, entry)) continue;
+    double time = 0;
+    long long part = 0;
+    // A damaged index must not end in std::stoi's exceptions or a part number sized like memory.
+    if (!io::parseDouble(m[1].str(), time) || !io::parseInt(m[2].str(), part) || part > 1000)
+      throw InputError(
+          fmt::format("{}:{}: expected timestep=\"<s>\" and part=\"<0 to 1000>\", "
+                      "got '{}'",
+                      pvdPath, lineNumber, io::excerpt(io::trim(line), 120)));
+    entries.push_back({time, static_cast<int>(part), m[3].str()});
+  }
   return entries;
 }
 
@@ -58,6 +70,9 @@ PvdSeries PvdSeries::resume(const std::string& directory, const std::string& bas
   for (const PvdEntry& e : readPvdIndex(series.pvdPath())) {
     if (!std::regex_search(e.file, f, frameNumber) || std::stoi(f[1].str()) >= frames) continue;
     if (e.part > 0) {  // <base>_<part>_<frame>.vtp: register the part name under its index
+      if (e.file.size() < baseName.size() + 13 || e.file.compare(0, baseName.size(), baseName) != 0)
+        throw InputError(fmt::format("{}: part file '{}' is not named {}_<part>_<frame>.vtp",
+                                     series.pvdPath(), io::excerpt(e.file), baseName));
       const std::string name =
           e.file.substr(baseName.size() + 1, e.file.size() - baseName.size() - 1 - 11);
       if (static_cast<int>(series.parts_.size()) <= e.part) series.parts_.resize(e.part + 1);

@@ -5,21 +5,21 @@
 #include <vtkIdList.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
-#include <vtkPolyDataReader.h>
 #include <vtkPolyDataWriter.h>
-#include <vtkSTLReader.h>
 #include <vtkSTLWriter.h>
 #include <vtkTriangleFilter.h>
-#include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
 
 #include <vector>
 
 #include "bcassim/Error.h"
 #include "bcassim/io/Files.h"
+#include "bcassim/io/LegacyVtkReader.h"
 #include "bcassim/io/ObjFormat.h"
+#include "bcassim/io/StlReader.h"
 #include "bcassim/io/TextLines.h"
 #include "bcassim/io/VtkSupport.h"
+#include "bcassim/io/VtkXmlReader.h"
 
 namespace bcassim {
 namespace {
@@ -51,33 +51,31 @@ TriMesh trianglesOf(vtkPolyData* input, const std::string& path) {
   return mesh;
 }
 
-template <class Reader>
-TriMesh readVtkSurface(const std::string& path, const char* what, bool legacy = false) {
-  io::VtkErrorCapture capture;
-  vtkNew<Reader> reader;
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  const std::string failure = fmt::format("cannot read {} file", what);
-  legacy ? io::throwIfLegacyVtkError(capture, path, failure)
-         : io::throwIfVtkError(capture, path, failure);
-  vtkPolyData* data = reader->GetOutput();
-  if (!data || data->GetNumberOfPoints() == 0)
-    throw InputError(fmt::format("{}: no points read; expected a {} surface", path, what));
-  return trianglesOf(data, path);
+vtkSmartPointer<vtkCellArray> toVtkCells(const io::VtkCells& cells) {
+  auto out = vtkSmartPointer<vtkCellArray>::New();
+  std::vector<vtkIdType> ids;
+  for (long long c = 0; c < cells.size(); ++c) {
+    ids.assign(cells.connectivity.begin() + cells.offsets[c],
+               cells.connectivity.begin() + cells.offsets[c + 1]);
+    out->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
+  }
+  return out;
 }
 
-TriMesh readLegacySurface(const std::string& path) {
-  {
-    io::VtkErrorCapture capture;
-    vtkNew<vtkPolyDataReader> probe;
-    probe->SetFileName(path.c_str());
-    if (!probe->IsFilePolyData())
-      throw InputError(
-          fmt::format("{}: not a legacy VTK polydata file; expected 'DATASET "
-                      "POLYDATA' with triangles",
-                      path));
-  }
-  return readVtkSurface<vtkPolyDataReader>(path, "legacy VTK", true);
+// Poly data read (and checked) by our own readers, triangulated by VTK's filter as before.
+TriMesh readPolyData(const io::VtkDataset& data) {
+  if (data.points.rows() == 0)
+    throw InputError(fmt::format("{}: no points; expected a surface", data.source));
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(io::toVtkPoints(data.points));
+  poly->SetVerts(toVtkCells(data.verts));
+  poly->SetLines(toVtkCells(data.lines));
+  poly->SetPolys(toVtkCells(data.polys));
+  poly->SetStrips(toVtkCells(data.strips));
+  io::VtkErrorCapture capture;
+  TriMesh mesh = trianglesOf(poly, data.source);
+  io::throwIfVtkError(capture, data.source, "cannot triangulate the surface");
+  return mesh;
 }
 
 vtkSmartPointer<vtkPolyData> toPolyData(const TriMesh& mesh) {
@@ -117,9 +115,9 @@ TriMesh readSurface(const std::string& path) {
                     path, ext));
   io::requireReadableFile(path);
   if (ext == ".obj") return readObj(path);
-  if (ext == ".stl") return readVtkSurface<vtkSTLReader>(path, "STL");
-  if (ext == ".vtp") return readVtkSurface<vtkXMLPolyDataReader>(path, "VTK XML polydata");
-  return readLegacySurface(path);
+  if (ext == ".stl") return io::readStl(path);
+  const auto kind = io::VtkDataset::Kind::kPolyData;
+  return readPolyData(ext == ".vtp" ? io::readVtkXml(path, kind) : io::readLegacyVtk(path, kind));
 }
 
 void writeSurface(const std::string& path, const TriMesh& mesh) {

@@ -9,7 +9,9 @@
 namespace bcassim {
 
 // Reads the triangles of a surface; polygons and strips are triangulated, other cells ignored.
-// STL vertices shared by triangles are merged. Throws InputError with one line naming the file.
+// STL vertices shared by triangles are merged. The files are parsed by our own bounded readers
+// (io/StlReader.h, io/LegacyVtkReader.h, io/VtkXmlReader.h, io/ObjFormat.h); VTK only
+// triangulates polygons and strips. Throws InputError with one line naming the file.
 TriMesh readSurface(const std::string& path);
 
 // Writes .vtp, .vtk (binary, exact doubles), .obj (round-trip decimal) or .stl (binary, so

@@ -78,14 +78,16 @@ bool parseInt(std::string_view field, long long& value) {
   return ec == std::errc() && end == field.data() + field.size();
 }
 
-std::string excerpt(std::string_view field) {
-  constexpr size_t kMax = 40;
+std::string excerpt(std::string_view field, size_t maxBytes) {
   std::string out;
-  for (size_t i = 0; i < field.size() && i < kMax; ++i) {
-    const unsigned char c = static_cast<unsigned char>(field[i]);
-    out += (c < 0x20 || c == 0x7f) ? '?' : static_cast<char>(c);
+  for (size_t i = 0; i < field.size() && i < maxBytes; ++i) {
+    const auto c = static_cast<unsigned char>(field[i]);
+    if (c >= 0x20 && c < 0x7f)
+      out += static_cast<char>(c);
+    else
+      out += fmt::format("\\x{:02x}", c);
   }
-  if (field.size() > kMax) out += "...";
+  if (field.size() > maxBytes) out += "...";
   return out;
 }
 

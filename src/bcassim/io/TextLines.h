@@ -41,8 +41,9 @@ bool isBlank(std::string_view s);
 bool parseDouble(std::string_view field, double& value);
 bool parseInt(std::string_view field, long long& value);
 
-// A field as it may be quoted in a one-line message: control characters replaced, long fields
-// shortened.
-std::string excerpt(std::string_view field);
+// A text from a file as it may be quoted in a one-line message: every byte that is not printable
+// ASCII (control characters, escape sequences, line breaks, bytes above 0x7e) written as \xNN, and
+// long fields shortened to `maxBytes` bytes and "...". Every reader quotes file text through it.
+std::string excerpt(std::string_view field, size_t maxBytes = 40);
 
 }  // namespace bcassim::io

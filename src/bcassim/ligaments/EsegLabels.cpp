@@ -4,11 +4,11 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
-#include <fstream>
+#include <climits>
 #include <unordered_map>
 
 #include "bcassim/Error.h"
+#include "bcassim/io/TextLines.h"
 
 namespace bcassim {
 
@@ -27,46 +27,28 @@ std::vector<std::array<int, 2>> esegEdgeOrder(const TriMesh& surface) {
   return edges;
 }
 
-namespace {
-
-bool isBlank(const std::string& s) { return s.find_first_not_of(" \t\r") == std::string::npos; }
-
-}  // namespace
-
 LabelledEdges readEseg(const std::string& path, const TriMesh& surface) {
   LabelledEdges out;
   out.edges = esegEdgeOrder(surface);
   const size_t expected = out.edges.size();
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open file");
-  std::string line;
-  int lineNumber = 0;
+  io::TextLines in(path);
   int firstBlankAfterLabels = 0;  // trailing blank lines are accepted, blank lines inside are not
-  while (std::getline(in, line)) {
-    ++lineNumber;
-    if (isBlank(line)) {
-      if (!firstBlankAfterLabels) firstBlankAfterLabels = lineNumber;
+  while (in.next()) {
+    const std::string_view label = io::trim(in.line());
+    if (label.empty()) {
+      if (!firstBlankAfterLabels) firstBlankAfterLabels = in.lineNumber();
       continue;
     }
-    if (firstBlankAfterLabels) {
+    if (firstBlankAfterLabels)
       throw InputError(
           fmt::format("{}:{}: blank line between edge labels", path, firstBlankAfterLabels));
-    }
-    const size_t begin = line.find_first_not_of(" \t");
-    const size_t end = line.find_last_not_of(" \t\r") + 1;
-    int value = 0;
-    const auto [ptr, ec] = std::from_chars(line.data() + begin, line.data() + end, value);
-    if (ec != std::errc() || ptr != line.data() + end) {
-      throw InputError(fmt::format("{}:{}: expected an integer edge label, got '{}'", path,
-                                   lineNumber,
-                                   line.substr(begin, std::min<size_t>(end - begin, 40))));
-    }
-    if (out.labels.size() == expected) {
-      throw InputError(
-          fmt::format("{}:{}: expected {} edge labels (one per surface edge), the file has more",
-                      path, lineNumber, expected));
-    }
-    out.labels.push_back(value);
+    long long value = 0;
+    if (!io::parseInt(label, value) || value < INT_MIN || value > INT_MAX)
+      in.fail(fmt::format("expected an integer edge label, got '{}'", io::excerpt(label)));
+    if (out.labels.size() == expected)
+      in.fail(fmt::format("expected {} edge labels (one per surface edge), the file has more",
+                          expected));
+    out.labels.push_back(static_cast<int>(value));
   }
   if (out.labels.size() != expected) {
     throw InputError(

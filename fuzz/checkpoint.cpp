@@ -1,0 +1,25 @@
+// libFuzzer target: checkpoint archives (io/BinaryArchive): the header, then texts, numbers and
+// matrices in an order the input chooses.
+#include "FuzzInput.h"
+#include "bcassim/io/BinaryArchive.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string path = bcassim::fuzz::writeInput(data, size, "checkpoint.bin");
+  bcassim::fuzz::expectOnlyInputErrors([&] {
+    bcassim::ArchiveReader in = bcassim::openCheckpoint(path, "simulation", "fuzz scene");
+    for (size_t i = 0; i < 64 && size > 0; ++i) {
+      switch (data[i % size] % 3) {
+        case 0:
+          in.text();
+          break;
+        case 1:
+          in.number();
+          break;
+        default:
+          in.matrix();
+          break;
+      }
+    }
+  });
+  return 0;
+}
