@@ -404,7 +404,8 @@ class XmlReader {
                    Reserve& reserve) {
     size_t textBytes = 0;
     for (const auto& [begin, end] : e.text) textBytes += end - begin;
-    if (count > static_cast<long long>(textBytes / 2 + 1))
+    const size_t most = textBytes / 2 + 1;  // a value and its separator take 2 bytes at least
+    if (static_cast<unsigned long long>(count) > most)
       fail(e, fmt::format("{} ascii values cannot fit in its {} bytes of text", count, textBytes));
     reserve(count);
     long long read = 0;
