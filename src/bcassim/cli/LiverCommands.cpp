@@ -239,6 +239,10 @@ void printTrackedReport(const TrackedLiverReport& r, const std::string& outDir) 
       r.detections, r.spuriousDetections, r.tackers, t.tracks, t.identitySwitches, t.wrongLabels,
       t.spuriousLabelled, t.unlabelled);
   fmt::print(
+      "  the other assignment method on the same frames: {} tracks, {} switches, {} wrong "
+      "labels\n",
+      r.otherMethod.tracks, r.otherMethod.identitySwitches, r.otherMethod.wrongLabels);
+  fmt::print(
       "registration (ICP, {} markers): rms {:.2f} mm, overlap {:.0f} %, {} iterations; error "
       "{:.2f} mm mean, {:.2f} mm max, {:.2f} deg; markers {:.2f} mm from their tackers\n",
       r.markers, 1e3 * r.registration.rms, 100 * r.registration.overlap, r.registration.iterations,

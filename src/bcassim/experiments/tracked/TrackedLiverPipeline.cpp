@@ -177,6 +177,13 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
   const TrackingResult tracked = trackMarkers(frames, o.tracker);
   report.tracking = scoreTracking(tracked.ids, recording.tackerOf, report.tackers);
   report.trackingProblems = tracked.report;
+  {
+    TrackerOptions other = o.tracker;
+    other.assignment = other.assignment == AssignmentMethod::Optimal ? AssignmentMethod::Greedy
+                                                                     : AssignmentMethod::Optimal;
+    report.otherMethod =
+        scoreTracking(trackMarkers(frames, other).ids, recording.tackerOf, report.tackers);
+  }
   const MarkerTracks cameraTracks = labelledTracks(frames, tracked);
   writeMarkerTracks((dir / "track" / "tracks.csv").string(), cameraTracks);
   writeTrackingReport(dir / "track" / "report.txt", tracked.report);
@@ -313,7 +320,8 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
     f << fmt::format(
         "# peak step {} (t = {:.6g} s), fiducials' mean displacement {:.6g} mm\n"
         "# tracking: {} tackers, {} tracks, {} switches, {} wrong labels, {} of {} spurious "
-        "labelled, {} tacker detections unlabelled\n"
+        "labelled, {} tacker detections unlabelled; the other method: {} tracks, {} switches, {} "
+        "wrong labels\n"
         "# registration: rms {:.6g} mm, overlap {:.6g}, error mean {:.6g} mm max {:.6g} mm, "
         "{:.6g} deg; markers {:.6g} mm off their tackers\n"
         "# springs' curve to the expert's: mean {:.6g} mm, max {:.6g} mm{}\n"
@@ -321,7 +329,8 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
         "{:.6g} s; total {:.6g} s\n",
         report.peakStep, report.peakStep * o.liver.dt, report.peakDisplacementMm, report.tackers,
         t.tracks, t.identitySwitches, t.wrongLabels, t.spuriousLabelled, report.spuriousDetections,
-        t.unlabelled, 1e3 * report.registration.rms, report.registration.overlap,
+        t.unlabelled, report.otherMethod.tracks, report.otherMethod.identitySwitches,
+        report.otherMethod.wrongLabels, 1e3 * report.registration.rms, report.registration.overlap,
         1e3 * report.registrationErrorMean, 1e3 * report.registrationErrorMax,
         report.registrationAngleDegrees, 1e3 * report.markerOffsetMean,
         1e3 * report.curveDistanceMean, 1e3 * report.curveDistanceMax,

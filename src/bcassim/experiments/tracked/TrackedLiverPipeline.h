@@ -62,6 +62,9 @@ struct TrackedLiverReport {
   // Camera and tracking.
   int detections = 0, spuriousDetections = 0;
   TrackingScore tracking;
+  // The same frames tracked by the other assignment method (greedy if tracking used the optimal
+  // one, and the other way round), for comparison only.
+  TrackingScore otherMethod;
   std::vector<std::string> trackingProblems;  // the tracker's report, one line each
   // Registration onto the estimation model.
   SurfaceRegistration registration;  // camera -> model; rms (m), overlap, iterations
