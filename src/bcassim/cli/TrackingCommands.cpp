@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <Eigen/Geometry>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
