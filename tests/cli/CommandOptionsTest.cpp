@@ -32,7 +32,8 @@ const std::vector<CommandOptions> kCommands = {
     {"atlas distance", false, false, false, true}, {"atlas register", true, false, false, true},
     {"atlas build", true, false, false, true},     {"atlas transfer", true, false, false, true},
     {"atlas loo", true, false, false, true},       {"liver prepare", true, false, false, true},
-    {"liver run", true, true, true, true},
+    {"liver run", true, true, true, true},         {"liver tracked", true, true, true, true},
+    {"track", true, false, false, false},          {"register", true, false, false, false},
 };
 
 bool has(const std::string& text, const std::string& what) {
@@ -62,19 +63,25 @@ TEST(CommandOptions, OutShowsItsDefault) {
   EXPECT_TRUE(has(runBcassim(dir, "simulate --help").out, "-o,--out TEXT=out "));
   EXPECT_TRUE(has(runBcassim(dir, "liver run --help").out, "-o,--out TEXT=out/liver "));
   EXPECT_TRUE(has(runBcassim(dir, "atlas build --help").out, "-o,--out TEXT=out/atlas "));
+  EXPECT_TRUE(has(runBcassim(dir, "track --help").out, "-o,--out TEXT=out/track "));
+  EXPECT_TRUE(has(runBcassim(dir, "register --help").out, "-o,--out TEXT=out/register "));
+  EXPECT_TRUE(
+      has(runBcassim(dir, "liver tracked --help").out, "-o,--out TEXT=out/liver-tracked\n"));
 }
 
 TEST(CommandOptions, TopLevelHelpListsEveryGroup) {
   const auto dir = freshDir();
   const test::CliResult r = runBcassim(dir, "--help");
   EXPECT_EQ(r.exitCode, 0);
-  for (const char* name : {"simulate", "assimilate", "validate", "mesh", "atlas", "liver"})
+  for (const char* name :
+       {"simulate", "assimilate", "validate", "mesh", "track", "register", "atlas", "liver"})
     EXPECT_TRUE(has(r.out, name)) << name;
 }
 
 TEST(CommandOptions, UnknownOptionIsOneLineAndExit2) {
   const auto dir = freshDir();
-  for (const char* command : {"simulate scene.yaml", "atlas build livers", "liver run phantom"}) {
+  for (const char* command : {"simulate scene.yaml", "atlas build livers", "liver run phantom",
+                              "track d.csv", "register m.vtu p.csv", "liver tracked phantom"}) {
     SCOPED_TRACE(command);
     const test::CliResult r = runBcassim(dir, std::string(command) + " --no-such-option");
     EXPECT_EQ(r.exitCode, 2);
@@ -110,8 +117,8 @@ void expectThreadsRefused(const std::string& command, const std::string& value) 
 TEST(CommandOptions, ThreadsBelowOneIsAnArgumentErrorNamingThreads) {
   for (const char* value : {"0", "-2", "two", "1.5"})
     expectThreadsRefused("assimilate s.yaml", value);
-  for (const char* command : {"liver run phantom", "liver prepare phantom", "atlas build livers",
-                              "atlas distance a.obj b.obj"})
+  for (const char* command : {"liver run phantom", "liver prepare phantom", "liver tracked phantom",
+                              "atlas build livers", "atlas distance a.obj b.obj"})
     expectThreadsRefused(command, "0");
 }
 
@@ -130,6 +137,8 @@ TEST(CommandOptions, MissingInputFileIsOneLineNamingIt) {
   const char* noSurface = ": no such file (expected a triangle surface .obj/.stl/.vtk/.vtp)";
   expectMissingFile("atlas distance none.obj b.obj", std::string("none.obj") + noSurface);
   expectMissingFile("atlas register none.obj b.obj --out o", std::string("none.obj") + noSurface);
+  expectMissingFile("track none.csv", "none.csv: cannot open file");
+  expectMissingFile("register none.vtu p.csv", "none.vtu: cannot open file");
 }
 
 }  // namespace

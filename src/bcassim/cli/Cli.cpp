@@ -36,6 +36,8 @@ std::vector<std::unique_ptr<Command>> allCommands() {
   commands.push_back(makeAssimilateCommand());
   commands.push_back(makeValidateCommand());
   commands.push_back(makeMeshInfoCommand());
+  commands.push_back(makeTrackCommand());
+  commands.push_back(makeRegisterCommand());
   commands.push_back(makeAtlasDistanceCommand());
   commands.push_back(makeAtlasRegisterCommand());
   commands.push_back(makeAtlasBuildCommand());
@@ -43,6 +45,7 @@ std::vector<std::unique_ptr<Command>> allCommands() {
   commands.push_back(makeAtlasLooCommand());
   commands.push_back(makeLiverPrepareCommand());
   commands.push_back(makeLiverRunCommand());
+  commands.push_back(makeLiverTrackedCommand());
   return commands;
 }
 
@@ -50,7 +53,7 @@ std::vector<std::unique_ptr<Command>> allCommands() {
 const std::map<std::string, std::string> kGroupDescriptions = {
     {"mesh", "Mesh tools"},
     {"atlas", "Statistical atlas of ligament curves (LDDMM registration, thesis §4.3, §5.2)"},
-    {"liver", "The liver experiment of thesis §5.1 from a CT surface"}};
+    {"liver", "The liver experiments of thesis §5.1 and §5.3 from a CT surface"}};
 
 // The error on one line, whatever the exception text holds.
 void printError(const std::string& what) {

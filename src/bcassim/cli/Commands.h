@@ -17,6 +17,10 @@ std::unique_ptr<Command> makeMeshInfoCommand();
 // LiverCommands.cpp
 std::unique_ptr<Command> makeLiverPrepareCommand();
 std::unique_ptr<Command> makeLiverRunCommand();
+std::unique_ptr<Command> makeLiverTrackedCommand();
+// TrackingCommands.cpp
+std::unique_ptr<Command> makeTrackCommand();
+std::unique_ptr<Command> makeRegisterCommand();
 // AtlasCommands.cpp
 std::unique_ptr<Command> makeAtlasDistanceCommand();
 std::unique_ptr<Command> makeAtlasRegisterCommand();

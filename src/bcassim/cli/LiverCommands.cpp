@@ -1,5 +1,6 @@
-// `bcassim liver prepare|run SURFACE`: the liver experiment of thesis §5.1 from one annotated CT
-// surface: the scenario files only, or the whole run with a summary table, plots and a picture.
+// `bcassim liver prepare|run|tracked SURFACE`: the liver experiment of thesis §5.1 from one
+// annotated CT surface (the scenario files only, or the whole run with a summary table, plots and
+// a picture), and §5.3's with synthetic tracked tackers (pipeline-tracked).
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -15,6 +16,7 @@
 #include "bcassim/cli/SharedOptions.h"
 #include "bcassim/experiments/liver/LiverPipeline.h"
 #include "bcassim/experiments/liver/LiverSurfacePath.h"
+#include "bcassim/experiments/tracked/TrackedLiverPipeline.h"
 #include "bcassim/viz/LiverPicture.h"
 #include "bcassim/viz/PlotScripts.h"
 
@@ -77,6 +79,7 @@ void printReport(const LiverReport& r, const LiverScenarioOptions& o, const std:
 struct LiverArguments {
   std::string surface, outDir = "out/liver";
   LiverScenarioOptions options;
+  std::string threadsWhat = "the sigma points' forecasts (assimilation.threads of estimate.yaml)";
 
   void declare(CLI::App& app) {
     LiverScenarioOptions& o = options;
@@ -107,8 +110,7 @@ struct LiverArguments {
     app.add_option("--lobe-displacement", o.lobeDisplacement,
                    "Static displacement of each lobe without ligament that sizes the loads (m)")
         ->capture_default_str();
-    addThreadsOption(app, o.threads,
-                     "the sigma points' forecasts (assimilation.threads of estimate.yaml)", true);
+    addThreadsOption(app, o.threads, threadsWhat, true);
   }
 
   // The options with the surface resolved to a file (or the phantom).
@@ -218,7 +220,190 @@ class LiverRunCommand : public Command {
   bool quiet_ = false, noPlots_ = false, noPicture_ = false, resume_ = false;
 };
 
+void printTrackedReport(const TrackedLiverReport& r, const std::string& outDir) {
+  printScenario(r.scenario);
+  if (r.atlasUsed)
+    fmt::print(
+        "springs' curve: atlas of {} without this liver, {:.1f} mm mean ({:.1f} max) from the "
+        "expert curve; build {:.0f} s, transfer {:.1f} s\n",
+        r.atlas.fromCache ? std::string("the cache")
+                          : fmt::format("{} livers", r.atlas.atlasLivers),
+        1e3 * r.curveDistanceMean, 1e3 * r.curveDistanceMax, r.atlas.buildSeconds,
+        r.atlas.transferSeconds);
+  else
+    fmt::print("springs' curve: the liver's own labelled curve (no atlas)\n");
+  const TrackingScore& t = r.tracking;
+  fmt::print(
+      "camera: {} detections ({} spurious) of {} tackers; tracking: {} tracks, {} identity "
+      "switches, {} wrong labels, {} spurious labelled, {} tacker detections unlabelled\n",
+      r.detections, r.spuriousDetections, r.tackers, t.tracks, t.identitySwitches, t.wrongLabels,
+      t.spuriousLabelled, t.unlabelled);
+  fmt::print(
+      "  the other assignment method on the same frames: {} tracks, {} switches, {} wrong "
+      "labels\n",
+      r.otherMethod.tracks, r.otherMethod.identitySwitches, r.otherMethod.wrongLabels);
+  fmt::print(
+      "registration (ICP, {} markers): rms {:.2f} mm, overlap {:.0f} %, {} iterations; error "
+      "{:.2f} mm mean, {:.2f} mm max, {:.2f} deg; markers {:.2f} mm from their tackers\n",
+      r.markers, 1e3 * r.registration.rms, 100 * r.registration.overlap, r.registration.iterations,
+      1e3 * r.registrationErrorMean, 1e3 * r.registrationErrorMax, r.registrationAngleDegrees,
+      1e3 * r.markerOffsetMean);
+  fmt::print("\n{:<12} {:>22}   (prior {:.4g} ± {:.3g})\n", "parameter", "estimate ± σ",
+             r.assimilation.parameters.empty() ? 0.0 : r.assimilation.parameters[0].initialMean,
+             r.assimilation.parameters.empty() ? 0.0 : r.assimilation.parameters[0].initialStddev);
+  for (const ParameterResult& p : r.assimilation.parameters)
+    fmt::print("{:<12} {:>22}\n", p.name, fmt::format("{:.4g} ± {:.3g} N/m", p.mean, p.stddev));
+  fmt::print(
+      "\nTRE of the {} inner fiducials at step {} (the truth's largest mean displacement, {:.1f} "
+      "mm) and over the steps:\n",
+      r.scenarios.empty() ? 0 : r.scenarios[0].atPeakMm.size(), r.peakStep, r.peakDisplacementMm);
+  fmt::print("  {:<34} {:>10} {:>10} {:>20}\n", "scenario", "peak mean", "peak max",
+             "over steps mean ± σ");
+  static const std::map<std::string, std::string> names = {
+      {"vessels", "(i) vessels fixed only"},
+      {"prior", "(ii) + atlas springs, prior"},
+      {"estimated", "(iii) + springs estimated (ROUKF)"}};
+  for (const ScenarioTre& s : r.scenarios)
+    fmt::print("  {:<34} {:>7.2f} mm {:>7.2f} mm {:>20}\n", names.at(s.name), s.peakMeanMm,
+               s.peakMaxMm,
+               fmt::format("{:.2f} ± {:.2f} mm", s.overTime.meanMm, s.overTime.meanStdMm));
+  fmt::print("  thesis §5.3 (one cadaver liver, real data): 17.5 -> 16.1 -> 14.0 mm\n");
+  fmt::print("assimilation: median {:.1f} ms/step; truth {:.0f} s; {:.0f} s in all\n",
+             r.assimilation.medianStepMs, r.truth.wallSeconds, r.seconds);
+  fmt::print("results: {}/summary.csv, tre.csv, track/tracks.csv, register/transform.csv\n",
+             outDir);
+}
+
+// The default folder of the livers an atlas is built from: the surface's own folder when it
+// holds other annotated livers (a CT liver by name), none for the phantom.
+std::string defaultAtlasLivers(const std::string& surface) {
+  if (surface == kLiverPhantomName) return "";
+  return std::filesystem::path(surface).parent_path().string();
+}
+
+class LiverTrackedCommand : public Command {
+ public:
+  LiverTrackedCommand()
+      : Command({"liver", "tracked"},
+                "Thesis §5.3 on a CT liver with synthetic tracked tackers: track, register, "
+                "and the TRE of three scenarios") {
+    args_.options = TrackedLiverOptions::defaultLiver();
+    args_.outDir = "out/liver-tracked";
+    args_.threadsWhat = "the sigma points' forecasts of the assimilation";
+  }
+
+  void declare(CLI::App& app) override {
+    args_.declare(app);
+    addQuietFlag(app, quiet_);
+    addResumeFlag(app, resume_,
+                  "its ground-truth, vessels-only and prior runs' checkpoints (the atlas is "
+                  "always taken from its folder when complete)");
+    TrackedLiverOptions& o = tracked_;
+    app.add_option("--tackers", args_.options.markers, "Tackers on the truth's anterior surface")
+        ->check(CLI::Range(6, 1000))
+        ->capture_default_str();
+    app.add_option("--fiducials", args_.options.validationPoints,
+                   "Inner fiducials the TRE is measured at (thesis: 9)")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    app.add_option("--dropout", o.camera.dropout,
+                   "Probability that a tacker goes undetected in a frame")
+        ->check(CLI::Range(0.0, 0.99))
+        ->capture_default_str();
+    app.add_option("--spurious", o.camera.spurious,
+                   "Probability, per tacker and frame, of a spurious detection as well")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    app.add_option("--camera-offset", o.camera.offset,
+                   "Distance of the camera frame from the model's (m)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--camera-angle", o.camera.angleDegrees,
+                   "Rotation of the camera frame from the model's (degrees)")
+        ->capture_default_str();
+    app.add_option("--seed", o.camera.seed, "Seed of the camera's noise, dropouts and pose")
+        ->capture_default_str();
+    app.add_option("--gate", o.tracker.gate,
+                   "Tracking: largest distance (m) from a tacker's predicted position to its "
+                   "detection")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--method", method_,
+                   "Tracking: optimal (global assignment) or greedy (the thesis' minimal "
+                   "distances)")
+        ->check(CLI::IsMember({"optimal", "greedy"}))
+        ->capture_default_str();
+    app.add_option("--registration-frames", o.registrationFrames,
+                   "First frames averaged per tacker and registered onto the model (ICP)")
+        ->check(CLI::Range(1, 1000000))
+        ->capture_default_str();
+    app.add_option("--atlas-livers", atlasLivers_,
+                   "Annotated livers the atlas is built from, this one left out (default: the "
+                   "surface's folder; 'none': springs on the liver's own curve, as the phantom)");
+    app.add_option("--atlas", o.atlasCacheDir,
+                   "Folder of the left-out atlas: used when complete, else built there "
+                   "(default: OUT/atlas)");
+  }
+
+  int run() override {
+    TrackedLiverOptions o = tracked_;
+    o.liver = args_.resolved();
+    o.camera.noise = o.liver.noise;
+    o.tracker.assignment =
+        method_ == "greedy" ? AssignmentMethod::Greedy : AssignmentMethod::Optimal;
+    o.atlasLiverDir = atlasLivers_.empty()     ? defaultAtlasLivers(o.liver.surface)
+                      : atlasLivers_ == "none" ? ""
+                                               : atlasLivers_;
+    const std::string& outDir = args_.outDir;
+    fmt::print("liver {} -> {} (pipeline-tracked, thesis §5.3)\n", o.liver.surface, outDir);
+    std::fflush(stdout);
+    ProgressBar simBar(stderr);
+    AssimilationProgressBar assimBar(stderr);
+    LiverCallbacks cb;
+    cb.stage = [&](const std::string& s) {
+      simBar.finish();
+      assimBar.finish();
+      static const std::map<std::string, std::string> what = {
+          {"prepare", "meshing and scenario"},
+          {"atlas", "ligament atlas without this liver, transferred onto it"},
+          {"truth", "ground truth (fine Ogden liver, dense ligament) with the tackers"},
+          {"camera", "camera: noisy tackers, dropouts, spurious detections, no ids"},
+          {"track", "tracking (identities over frames)"},
+          {"register", "registration of the first frames onto the model (ICP)"},
+          {"estimate", "assimilation (ROUKF) of the atlas springs from the tracked tackers"},
+          {"vessels", "(i) vessels fixed only"},
+          {"prior", "(ii) + atlas springs at their prior stiffness"},
+          {"estimated", "(iii) + the springs estimated"}};
+      fmt::print("== {}\n", what.at(s));
+      std::fflush(stdout);
+    };
+    cb.log = [](const std::string& line) {
+      fmt::print("   {}\n", line);
+      std::fflush(stdout);
+    };
+    if (!quiet_) {
+      cb.simulation = [&](const RunProgress& p) { simBar.update(p); };
+      cb.assimilation = [&](const AssimilationProgress& p) { assimBar.update(p); };
+    }
+    const TrackedLiverReport r = runTrackedLiverPipeline(o, outDir, cb, resume_);
+    simBar.finish();
+    assimBar.finish();
+    printTrackedReport(r, outDir);
+    return 0;
+  }
+
+ private:
+  LiverArguments args_;
+  TrackedLiverOptions tracked_;
+  std::string method_ = "optimal", atlasLivers_;
+  bool quiet_ = false, resume_ = false;
+};
+
 }  // namespace
+
+std::unique_ptr<Command> makeLiverTrackedCommand() {
+  return std::make_unique<LiverTrackedCommand>();
+}
 
 std::unique_ptr<Command> makeLiverPrepareCommand() {
   return std::make_unique<LiverPrepareCommand>();

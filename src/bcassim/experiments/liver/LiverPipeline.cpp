@@ -7,54 +7,16 @@
 #include <fstream>
 
 #include "bcassim/Error.h"
+#include "bcassim/experiments/liver/ErrorsOverTime.h"
 #include "bcassim/experiments/liver/LiverScenes.h"
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/CsvTracks.h"
-#include "bcassim/run/ValidationErrors.h"
 #include "bcassim/scene/ModelParameter.h"
 
 namespace bcassim {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct StepSeries {
-  std::vector<double> mean, max;  // mm, per step 1 .. steps
-};
-
-ErrorOverTime summarise(const StepSeries& s) {
-  ErrorOverTime e;
-  e.steps = static_cast<int>(s.mean.size());
-  if (e.steps == 0) return e;
-  auto meanStd = [](const std::vector<double>& v, double& m, double& sd) {
-    m = 0;
-    for (double x : v) m += x / static_cast<double>(v.size());
-    double var = 0;
-    for (double x : v) var += (x - m) * (x - m) / static_cast<double>(v.size());
-    sd = std::sqrt(var);
-  };
-  meanStd(s.mean, e.meanMm, e.meanStdMm);
-  meanStd(s.max, e.maxMm, e.maxStdMm);
-  for (double x : s.max) e.peakMm = std::max(e.peakMm, x);
-  return e;
-}
-
-// Per-step error of a forward run's validation tracks against the truth's (same time grid).
-StepSeries trackErrors(const fs::path& model, const fs::path& truth) {
-  const MarkerTracks a = readMarkerTracks(model.string());
-  const MarkerTracks b = readMarkerTracks(truth.string());
-  if (a.frames.size() != b.frames.size() || a.numMarkers != b.numMarkers)
-    throw InputError(fmt::format("{}: {} frames of {} points, but the truth {} has {} of {}",
-                                 model.string(), a.frames.size(), a.numMarkers, truth.string(),
-                                 b.frames.size(), b.numMarkers));
-  StepSeries s;
-  for (size_t k = 1; k < a.frames.size(); ++k) {  // frame 0 is the rest state
-    const StepError e = stepError(a.frames[k], b.frames[k]);
-    s.mean.push_back(1e3 * e.mean);
-    s.max.push_back(1e3 * e.max);
-  }
-  return s;
-}
 
 // Mean of a 95 % radius column of hidden_points.csv over the tumours at a step, mm.
 double meanRadiusAt(const CsvTable& t, int step, const std::string& column) {
@@ -134,12 +96,15 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
                                   cb.simulation, resumable("baseline"));
 
   const fs::path truthTracks = dir / "truth" / "validation.csv";
-  const StepSeries est = trackErrors(dir / "estimated" / "validation.csv", truthTracks);
-  const StepSeries pri = trackErrors(dir / "prior" / "validation.csv", truthTracks);
-  const StepSeries fixed = trackErrors(dir / "baseline" / "validation.csv", truthTracks);
-  report.estimated = summarise(est);
-  report.prior = summarise(pri);
-  report.fixed = summarise(fixed);
+  const StepSeries est =
+      validationErrorSeries((dir / "estimated" / "validation.csv").string(), truthTracks.string());
+  const StepSeries pri =
+      validationErrorSeries((dir / "prior" / "validation.csv").string(), truthTracks.string());
+  const StepSeries fixed =
+      validationErrorSeries((dir / "baseline" / "validation.csv").string(), truthTracks.string());
+  report.estimated = summariseErrors(est);
+  report.prior = summariseErrors(pri);
+  report.fixed = summariseErrors(fixed);
   {
     const MarkerTracks t = readMarkerTracks(truthTracks.string());
     for (const Eigen::MatrixX3d& f : t.frames)

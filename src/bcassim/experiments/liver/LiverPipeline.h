@@ -6,20 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "bcassim/experiments/liver/ErrorsOverTime.h"
 #include "bcassim/experiments/liver/LiverScenario.h"
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/run/SimulationRunner.h"
 
 namespace bcassim {
-
-// Validation error over time, thesis Fig. 5.3/5.4: the per-step mean (and max) over the points,
-// then its mean and standard deviation over the steps. mm.
-struct ErrorOverTime {
-  double meanMm = 0, meanStdMm = 0;  // per-step mean error: mean ± σ over steps
-  double maxMm = 0, maxStdMm = 0;    // per-step max error: mean ± σ over steps
-  double peakMm = 0;                 // largest error of any point at any step
-  int steps = 0;
-};
 
 struct LiverReport {
   LiverScenario scenario;
@@ -38,6 +30,7 @@ struct LiverReport {
 
 struct LiverCallbacks {
   std::function<void(const std::string& stage)> stage;  // "truth", "estimate", ...
+  std::function<void(const std::string& line)> log;     // progress lines of long stages (atlas)
   ProgressCallback simulation;
   AssimilationCallback assimilation;
 };

@@ -158,7 +158,8 @@ double staticDisplacement(const LiverSceneSpec& spec, const Vec3& center, double
 
 }  // namespace
 
-LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::string& outDir) {
+LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::string& outDir,
+                                     LiverScenario& result) {
   if (o.groups < 1 || o.markers < 3 || o.validationPoints < 1 || o.tumours < 0 || o.steps < 1 ||
       o.observedSteps < 0 || o.dt <= 0 || o.scale <= 0)
     throw InputError("liver: bad options (groups >= 1, markers >= 3, steps >= 1, dt > 0)");
@@ -191,7 +192,6 @@ LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::str
   bool hasRidge = std::find(edges.labels.begin(), edges.labels.end(), 3) != edges.labels.end();
   if (hasRidge) ridge = scale * extractAttachmentCurve(surface, edges, 3, name).points;
 
-  LiverScenario result;
   result.dir = outDir;
   SurfaceMeshingOptions mo;
   mo.scale = scale;
@@ -322,7 +322,12 @@ LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::str
   }
   result.rightForce = spec.rightForce;
   result.leftForce = spec.leftForce;
+  return spec;
+}
 
+LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::string& outDir) {
+  LiverScenario result;
+  const LiverSceneSpec spec = prepareLiverSceneSpec(o, outDir, result);
   result.truthScene = std::make_shared<const Scene>(makeLiverTruthScene(spec));
   result.estimateScene = std::make_shared<const Scene>(makeLiverEstimationScene(spec));
   result.baselineScene = std::make_shared<const Scene>(makeLiverBaselineScene(spec));

@@ -54,6 +54,13 @@ struct LiverSceneSpec {
   std::string scenePath(const std::string& file) const;  // dir/file
 };
 
+// The values of the scenes from an annotated surface: what prepareLiverScenario does (see it)
+// up to, not including, building the scenes and writing their .yaml files; `report` gets the
+// meshing report, anatomy, curve length, fixed nodes and loads. Other experiments built on the
+// liver (experiments/tracked) change the values before building their scenes.
+LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& options, const std::string& outDir,
+                                     LiverScenario& report);
+
 // The coarse liver's mechanics alone (mesh, StVK, density; no damping, boundary conditions or
 // springs): the estimation and baseline models, and the load calibration.
 MechanicalModel makeCoarseLiverModel(const LiverSceneSpec& spec);
