@@ -381,7 +381,7 @@ class RegisterCommand : public Command {
   // The model-frame partner of each of the n rows of POINTS.
   Eigen::MatrixX3d pairedTargets(const RegistrationModel& model, Eigen::Index n) const {
     if (!pairs_.empty()) {
-      const Eigen::MatrixX3d Q = readPoints(pairs_);
+      Eigen::MatrixX3d Q = readPoints(pairs_);
       if (Q.rows() != n)
         throw InputError(
             fmt::format("--pairs {}: {} points for {} rows of {}; expected one per row", pairs_,
