@@ -121,6 +121,45 @@ struct LiverArguments {
   }
 };
 
+// What a liver command shows while its pipeline runs: a "== stage" line named from the
+// command's own list, progress bars for the simulations and the assimilation unless quiet, and
+// the pipeline's log lines indented under their stage.
+class LiverStageDisplay {
+ public:
+  LiverStageDisplay(std::map<std::string, std::string> stageNames, bool quiet)
+      : stageNames_(std::move(stageNames)), quiet_(quiet) {}
+
+  LiverCallbacks callbacks() {
+    LiverCallbacks cb;
+    cb.stage = [this](const std::string& s) {
+      finish();
+      const auto it = stageNames_.find(s);
+      fmt::print("== {}\n", it == stageNames_.end() ? s : it->second);
+      std::fflush(stdout);
+    };
+    cb.log = [](const std::string& line) {
+      fmt::print("   {}\n", line);
+      std::fflush(stdout);
+    };
+    if (!quiet_) {
+      cb.simulation = [this](const RunProgress& p) { simBar_.update(p); };
+      cb.assimilation = [this](const AssimilationProgress& p) { assimBar_.update(p); };
+    }
+    return cb;
+  }
+
+  void finish() {
+    simBar_.finish();
+    assimBar_.finish();
+  }
+
+ private:
+  std::map<std::string, std::string> stageNames_;
+  bool quiet_;
+  ProgressBar simBar_{stderr};
+  AssimilationProgressBar assimBar_{stderr};
+};
+
 class LiverPrepareCommand : public Command {
  public:
   LiverPrepareCommand()
@@ -167,28 +206,16 @@ class LiverRunCommand : public Command {
     const std::string& outDir = args_.outDir;
     fmt::print("liver {} -> {}\n", o.surface, outDir);
     std::fflush(stdout);
-    ProgressBar simBar(stderr);
-    AssimilationProgressBar assimBar(stderr);
-    LiverCallbacks cb;
-    cb.stage = [&](const std::string& s) {
-      simBar.finish();
-      assimBar.finish();
-      static const std::map<std::string, std::string> what = {
-          {"prepare", "meshing and scenario"},
-          {"truth", "ground truth (fine Ogden liver, dense ligament)"},
-          {"estimate", "assimilation (ROUKF, coarse StVK liver, spring groups)"},
-          {"validate", "forward run with the estimated ligament (and with the prior)"},
-          {"baseline", "baseline: ligament as fixed nodes"}};
-      fmt::print("== {}\n", what.at(s));
-      std::fflush(stdout);
-    };
-    if (!quiet_) {
-      cb.simulation = [&](const RunProgress& p) { simBar.update(p); };
-      cb.assimilation = [&](const AssimilationProgress& p) { assimBar.update(p); };
-    }
+    LiverStageDisplay display(
+        {{"prepare", "meshing and scenario"},
+         {"truth", "ground truth (fine Ogden liver, dense ligament)"},
+         {"estimate", "assimilation (ROUKF, coarse StVK liver, spring groups)"},
+         {"validate", "forward run with the estimated ligament (and with the prior)"},
+         {"baseline", "baseline: ligament as fixed nodes"}},
+        quiet_);
+    const LiverCallbacks cb = display.callbacks();
     const LiverReport r = runLiverPipeline(o, outDir, cb, resume_);
-    simBar.finish();
-    assimBar.finish();
+    display.finish();
     printReport(r, o, outDir);
     if (!noPlots_) plot(outDir);
     if (!noPicture_) picture(outDir);
@@ -357,37 +384,21 @@ class LiverTrackedCommand : public Command {
     const std::string& outDir = args_.outDir;
     fmt::print("liver {} -> {} (pipeline-tracked, thesis §5.3)\n", o.liver.surface, outDir);
     std::fflush(stdout);
-    ProgressBar simBar(stderr);
-    AssimilationProgressBar assimBar(stderr);
-    LiverCallbacks cb;
-    cb.stage = [&](const std::string& s) {
-      simBar.finish();
-      assimBar.finish();
-      static const std::map<std::string, std::string> what = {
-          {"prepare", "meshing and scenario"},
-          {"atlas", "ligament atlas without this liver, transferred onto it"},
-          {"truth", "ground truth (fine Ogden liver, dense ligament) with the tackers"},
-          {"camera", "camera: noisy tackers, dropouts, spurious detections, no ids"},
-          {"track", "tracking (identities over frames)"},
-          {"register", "registration of the first frames onto the model (ICP)"},
-          {"estimate", "assimilation (ROUKF) of the atlas springs from the tracked tackers"},
-          {"vessels", "(i) vessels fixed only"},
-          {"prior", "(ii) + atlas springs at their prior stiffness"},
-          {"estimated", "(iii) + the springs estimated"}};
-      fmt::print("== {}\n", what.at(s));
-      std::fflush(stdout);
-    };
-    cb.log = [](const std::string& line) {
-      fmt::print("   {}\n", line);
-      std::fflush(stdout);
-    };
-    if (!quiet_) {
-      cb.simulation = [&](const RunProgress& p) { simBar.update(p); };
-      cb.assimilation = [&](const AssimilationProgress& p) { assimBar.update(p); };
-    }
+    LiverStageDisplay display(
+        {{"prepare", "meshing and scenario"},
+         {"atlas", "ligament atlas without this liver, transferred onto it"},
+         {"truth", "ground truth (fine Ogden liver, dense ligament) with the tackers"},
+         {"camera", "camera: noisy tackers, dropouts, spurious detections, no ids"},
+         {"track", "tracking (identities over frames)"},
+         {"register", "registration of the first frames onto the model (ICP)"},
+         {"estimate", "assimilation (ROUKF) of the atlas springs from the tracked tackers"},
+         {"vessels", "(i) vessels fixed only"},
+         {"prior", "(ii) + atlas springs at their prior stiffness"},
+         {"estimated", "(iii) + the springs estimated"}},
+        quiet_);
+    const LiverCallbacks cb = display.callbacks();
     const TrackedLiverReport r = runTrackedLiverPipeline(o, outDir, cb, resume_);
-    simBar.finish();
-    assimBar.finish();
+    display.finish();
     printTrackedReport(r, outDir);
     return 0;
   }
