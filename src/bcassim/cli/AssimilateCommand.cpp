@@ -11,6 +11,7 @@
 #include "bcassim/cli/AssimilationProgressBar.h"
 #include "bcassim/cli/Commands.h"
 #include "bcassim/cli/SharedOptions.h"
+#include "bcassim/io/OutputDirectoryLock.h"
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/scene/SceneLoader.h"
 #include "bcassim/viz/PlotScripts.h"
@@ -107,6 +108,7 @@ class AssimilateCommand : public Command {
   }
 
   int run() override {
+    const io::OutputDirectoryLock lock(args_.outDir);
     Scene scene = loadScene(args_.scenePath);
     requireAssimilation(args_.scenePath, scene);
     AssimilationSettings& s = *scene.assimilation;
@@ -146,6 +148,7 @@ class ValidateCommand : public Command {
   }
 
   int run() override {
+    const io::OutputDirectoryLock lock(args_.outDir);
     const Scene scene = loadScene(args_.scenePath);
     requireAssimilation(args_.scenePath, scene);
     if (!scene.assimilation->validationTruth)

@@ -15,6 +15,7 @@
 #include "bcassim/cli/SharedOptions.h"
 #include "bcassim/experiments/liver/LiverPipeline.h"
 #include "bcassim/experiments/liver/LiverSurfacePath.h"
+#include "bcassim/io/OutputDirectoryLock.h"
 #include "bcassim/viz/LiverPicture.h"
 #include "bcassim/viz/PlotScripts.h"
 
@@ -163,6 +164,7 @@ class LiverRunCommand : public Command {
   int run() override {
     const LiverScenarioOptions o = args_.resolved();
     const std::string& outDir = args_.outDir;
+    const io::OutputDirectoryLock lock(outDir);
     fmt::print("liver {} -> {}\n", o.surface, outDir);
     std::fflush(stdout);
     ProgressBar simBar(stderr);

@@ -9,6 +9,7 @@
 #include "bcassim/cli/Commands.h"
 #include "bcassim/cli/ProgressBar.h"
 #include "bcassim/cli/SharedOptions.h"
+#include "bcassim/io/OutputDirectoryLock.h"
 #include "bcassim/run/SimulationRunner.h"
 #include "bcassim/scene/SceneLoader.h"
 
@@ -55,6 +56,7 @@ class SimulateCommand : public Command {
   }
 
   int run() override {
+    const io::OutputDirectoryLock lock(outDir_);
     const Scene scene = loadScene(scenePath_);
     printScene(scenePath_, scene);
     ProgressBar bar(stderr);
