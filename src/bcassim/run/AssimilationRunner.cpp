@@ -23,6 +23,7 @@
 #include "bcassim/coupling/ParameterForwardRun.h"
 #include "bcassim/coupling/PointUncertainty.h"
 #include "bcassim/io/CsvTruncate.h"
+#include "bcassim/io/Files.h"
 #include "bcassim/run/AssimilationCheckpoint.h"
 #include "bcassim/run/AssimilationEstimates.h"
 #include "bcassim/run/ValidationErrors.h"
@@ -35,13 +36,13 @@ std::ofstream openForWriting(const std::filesystem::path& path) {
   std::error_code ec;
   std::filesystem::create_directories(path.parent_path(), ec);
   std::ofstream out(path);
-  if (!out) throw InputError(path.string() + ": cannot write file");
+  if (!out) io::throwWriteError(path.string());
   return out;
 }
 
 void flushOrThrow(std::ofstream& out, const std::filesystem::path& path) {
   out.flush();
-  if (!out) throw InputError(path.string() + ": write failed");
+  if (!out) io::throwWriteError(path.string());
 }
 
 const AssimilationSettings& settingsOf(const Scene& scene) {

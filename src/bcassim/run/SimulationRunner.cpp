@@ -11,6 +11,7 @@
 #include "bcassim/Stopwatch.h"
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/io/CsvTruncate.h"
+#include "bcassim/io/Files.h"
 #include "bcassim/io/PvdSeries.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 #include "bcassim/run/SimulationCheckpoint.h"
@@ -24,7 +25,7 @@ std::ofstream openForWriting(const std::string& path) {
   std::error_code ec;
   std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
   std::ofstream out(path);
-  if (!out) throw InputError(path + ": cannot write file");
+  if (!out) io::throwWriteError(path);
   return out;
 }
 
@@ -221,7 +222,7 @@ RunTrace runOne(const Scene& scene, const std::string& dir, bool keepMarkers, Ru
     if (callback) callback(progress);
   }
   timing.flush();
-  if (!timing) throw InputError(dir + "/timing.csv: cannot write file");
+  if (!timing) io::throwWriteError(dir + "/timing.csv");
   trace.result.frames = series ? series->numFrames() : 0;
   trace.result.meanStepMs = scene.steps > 0 ? 1e3 * stepSeconds / scene.steps : 0.0;
   trace.result.wallSeconds = secondsSince(t0);
@@ -297,7 +298,7 @@ SimulationResult runSimulation(const Scene& scene, const std::string& outDir,
       csv << fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.name, r.relativeDifferenceFinal,
                          r.relativeDifferenceAll, r.meanStepMs, r.maxMarkerDisplacement);
     csv.flush();
-    if (!csv) throw InputError(path + ": cannot write file");
+    if (!csv) io::throwWriteError(path);
   }
   result.wallSeconds = secondsSince(started);
   return result;
