@@ -101,7 +101,12 @@ class AssimilateCommand : public Command {
 
   void declare(CLI::App& app) override {
     args_.declare(app);
-    addResumeFlag(app, resume_, "its last checkpoint (written every output.every steps)");
+    addResumeFlag(app, resume_,
+                  "its last checkpoint (written every output.every steps). The same files byte "
+                  "for byte as a run that never stopped with reuse_factorization: false, with "
+                  "tangent: mean (no tangent_background) and with etkf; with the defaults roukf "
+                  "and ukf may differ in a last printed digit, and tangent_background: true "
+                  "estimates agreed within 4e-4 relative (README, Resuming)");
     addThreadsOption(app, threads_,
                      "the sigma points' forecasts (default: the scene's assimilation.threads)",
                      false);

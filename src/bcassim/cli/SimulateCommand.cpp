@@ -52,7 +52,9 @@ class SimulateCommand : public Command {
     app.add_option("scene", scenePath_, "Scene file (.yaml), see docs/scene-format.md")->required();
     addOutOption(app, outDir_);
     addQuietFlag(app, quiet_);
-    addResumeFlag(app, resume_, "its last checkpoint (written at every output step)");
+    addResumeFlag(app, resume_,
+                  "its last checkpoint (written at every output step); with a direct solver "
+                  "the same files byte for byte as a run that never stopped");
   }
 
   int run() override {
