@@ -142,8 +142,12 @@ Eigen::MatrixXd ArchiveReader::matrix() {
     throw InputError(fmt::format("{}: damaged (expected a matrix)", path_));
   in_.read(reinterpret_cast<char*>(&rows), sizeof rows);
   in_.read(reinterpret_cast<char*>(&cols), sizeof cols);
-  if (!in_ || rows < 0 || cols < 0 ||
-      (cols > 0 && static_cast<std::uint64_t>(rows) > bytesLeft() / sizeof(double) / cols))
+  // Each size within the bytes left as well: a 0 x 2^62 matrix holds nothing but would take
+  // forever to check.
+  const std::uint64_t left = bytesLeft();
+  if (!in_ || rows < 0 || cols < 0 || static_cast<std::uint64_t>(rows) > left ||
+      static_cast<std::uint64_t>(cols) > left ||
+      (cols > 0 && static_cast<std::uint64_t>(rows) > left / sizeof(double) / cols))
     throw InputError(fmt::format("{}: damaged (expected a matrix)", path_));
   Eigen::MatrixXd m(rows, cols);
   in_.read(reinterpret_cast<char*>(m.data()),

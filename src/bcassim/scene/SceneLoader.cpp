@@ -15,6 +15,7 @@
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/MeshReader.h"
 #include "bcassim/io/PointReader.h"
+#include "bcassim/io/TextLines.h"
 #include "bcassim/ligaments/LigamentSprings.h"
 #include "bcassim/mesh/BoundarySurface.h"
 #include "bcassim/mesh/MeshGenerators.h"
@@ -632,7 +633,9 @@ YAML::Node parse(const std::string& yaml, const YamlSource& src) {
   try {
     return YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
-    throw InputError(src.file + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
+    // yaml-cpp quotes the offending character raw (a line break, an escape byte): escaped here.
+    throw InputError(src.file + ":" + std::to_string(e.mark.line + 1) +
+                     ": invalid YAML: " + io::excerpt(e.msg, 200));
   }
 }
 
