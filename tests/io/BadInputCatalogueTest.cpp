@@ -17,10 +17,12 @@ namespace bcassim {
 namespace {
 
 // How a file is read: tet meshes by `mesh info`, surfaces by `atlas distance` (the file twice: the
-// first read fails); checkpoints in-process, as `--resume` opens them (openCheckpoint).
+// first read fails), scenes by `simulate`; checkpoints in-process, as `--resume` opens them
+// (openCheckpoint).
 constexpr const char* kMeshInfo = "mesh info {0}";
 constexpr const char* kSurfaceRead = "atlas distance {0} {0}";
 constexpr const char* kCheckpoint = "(openCheckpoint)";
+constexpr const char* kSimulate = "simulate {0} --out out --quiet";
 
 struct BadInput {
   const char* file;     // in tests/data/bad/
@@ -112,6 +114,18 @@ const BadInput kCatalogue[] = {
      ":3: expected a number for vertex coordinate z, got '\\x1b[2J'"},
     {"vtk-polygon-with-2-points.vtk", kSurfaceRead,
      ":11: polygon 1 has 2 point ids; expected at least 3"},
+    // Checkpoints: one flipped byte (in the number 30.0), a file cut short, format 1.
+    {"checkpoint-flipped-byte.bin", kCheckpoint,
+     ": damaged (checksum b582eb36); expected b4408101, the CRC-32 written at its end"},
+    {"checkpoint-cut-short.bin", kCheckpoint,
+     ": damaged (no checksum at its end: cut short?); expected a 'C' tag and a CRC-32 in its "
+     "last 5 bytes"},
+    {"checkpoint-format-1.bin", kCheckpoint,
+     ": written by an older bcassim (checkpoint format 1, without a checksum); run without "
+     "--resume"},
+    // Found by fuzz_scene_yaml: yaml-cpp's message quoted a line break raw.
+    {"scene-yaml-escape-of-a-line-break.yaml", kSimulate,
+     ":6: invalid YAML: unknown escape character: \\x0a"},
     // Found by fuzz_checkpoint: the scene key stored in a checkpoint was printed raw.
     {"checkpoint-key-with-line-break.bin", kCheckpoint,
      ": written for another scene (\\x0a\\x00\\x00\\x00\\x00\\x00\\x00\\x00fuzz sceneN); "

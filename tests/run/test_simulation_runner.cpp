@@ -2,6 +2,10 @@
 // static equilibrium, steps halved where they fail, and variant comparison.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <cstdint>
+#include <fstream>
 
 #include <cstdio>
 #include <sstream>
@@ -80,6 +84,34 @@ validation_points: {nodes: all}
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), (dir / "nothing" / "checkpoint.bin").string() +
                                          ": no checkpoint to resume from (run without --resume)");
+  }
+}
+
+// One flipped byte in a real checkpoint (inside the positions) is refused on --resume, naming the
+// CRC-32 of the damaged contents and the one written at the end.
+TEST(SimulationRunner, ResumeFromADamagedCheckpointIsRefusedByItsChecksum) {
+  const auto dir = freshDir();
+  const Scene scene = loadSceneFromString(
+      kBeam + "time: {dt: 0.01, steps: 20}\noutput: {every: 10}\n", "beam.yaml", dir.string());
+  runSimulation(scene, dir.string());
+  const std::string path = (dir / "checkpoint.bin").string();
+  std::string bytes = readText(path);
+  ASSERT_GT(bytes.size(), 400u);
+  const auto crcOf = [](const std::string& b) {
+    return static_cast<std::uint32_t>(
+        ::crc32(0, reinterpret_cast<const Bytef*>(b.data()), static_cast<uInt>(b.size() - 5)));
+  };
+  const std::uint32_t written = crcOf(bytes);
+  bytes[bytes.size() / 2] ^= 0x01;
+  std::ofstream(path, std::ios::binary) << bytes;
+  try {
+    runSimulation(scene, dir.string(), {}, true);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              fmt::format("{}: damaged (checksum {:08x}); expected {:08x}, the CRC-32 written at "
+                          "its end",
+                          path, crcOf(bytes), written));
   }
 }
 

@@ -17,6 +17,7 @@
 #include "bcassim/experiments/liver/LiverPipeline.h"
 #include "bcassim/experiments/liver/LiverSurfacePath.h"
 #include "bcassim/experiments/tracked/TrackedLiverPipeline.h"
+#include "bcassim/io/OutputDirectoryLock.h"
 #include "bcassim/viz/LiverPicture.h"
 #include "bcassim/viz/PlotScripts.h"
 
@@ -204,6 +205,7 @@ class LiverRunCommand : public Command {
   int run() override {
     const LiverScenarioOptions o = args_.resolved();
     const std::string& outDir = args_.outDir;
+    const io::OutputDirectoryLock lock(outDir);
     fmt::print("liver {} -> {}\n", o.surface, outDir);
     std::fflush(stdout);
     LiverStageDisplay display(
@@ -382,6 +384,7 @@ class LiverTrackedCommand : public Command {
                       : atlasLivers_ == "none" ? ""
                                                : atlasLivers_;
     const std::string& outDir = args_.outDir;
+    const io::OutputDirectoryLock lock(outDir);
     fmt::print("liver {} -> {} (pipeline-tracked, thesis §5.3)\n", o.liver.surface, outDir);
     std::fflush(stdout);
     LiverStageDisplay display(

@@ -20,6 +20,7 @@
 #include "bcassim/cli/SharedOptions.h"
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/io/DetectionsCsv.h"
+#include "bcassim/io/Files.h"
 #include "bcassim/io/IndexListReader.h"
 #include "bcassim/io/MeshReader.h"
 #include "bcassim/io/PointCsvWriter.h"
@@ -254,7 +255,7 @@ void writeTransform(const fs::path& out, const RigidTransform& t) {
     for (int r = 0; r < 4; ++r)
       f << fmt::format("{:.17g}{}{:.17g}{}{:.17g}{}{:.17g}\n", M(r, 0), separator, M(r, 1),
                        separator, M(r, 2), separator, M(r, 3));
-    if (!f) throw InputError(path.string() + ": cannot write file");
+    if (!f) io::throwWriteError(path.string());
   }
 }
 

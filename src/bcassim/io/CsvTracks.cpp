@@ -26,16 +26,16 @@ constexpr long long kMinDenseRows = 1 << 20;
 MarkerTrackWriter::MarkerTrackWriter(const std::string& path) : path_(path) {
   io::createParentDirectory(path);
   out_.open(path, std::ios::binary | std::ios::trunc);
-  if (!out_) throw InputError(fmt::format("{}: cannot write file", path));
+  if (!out_) io::throwWriteError(path);
   out_ << "time,marker,x,y,z\n";
   out_.flush();
-  if (!out_) throw InputError(fmt::format("{}: cannot write file", path));
+  if (!out_) io::throwWriteError(path);
 }
 
 MarkerTrackWriter::MarkerTrackWriter(const std::string& path, double until) : path_(path) {
   keepCsvRowsUpTo(path, until + 1e-9);
   out_.open(path, std::ios::binary | std::ios::app);
-  if (!out_) throw InputError(fmt::format("{}: cannot write file", path));
+  if (!out_) io::throwWriteError(path);
 }
 
 void MarkerTrackWriter::write(double time, const Eigen::MatrixX3d& positions) {
@@ -47,7 +47,7 @@ void MarkerTrackWriter::write(double time, const Eigen::MatrixX3d& positions) {
   }
   out_.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
   out_.flush();
-  if (!out_) throw InputError(fmt::format("{}: write failed", path_));
+  if (!out_) io::throwWriteError(path_);
 }
 
 MarkerTracks readMarkerTracks(const std::string& path) {

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -30,11 +32,20 @@ void keepCsvRowsUpTo(const std::string& path, double limit) {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     const std::string text = kept.str();
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    if (!out) throw InputError(fmt::format("{}: cannot write file", temporary));
+    out.close();
+    if (!out) {
+      const int error = errno;
+      std::remove(temporary.c_str());  // the file of the run stays as it was
+      errno = error;
+      io::throwWriteError(temporary);
+    }
   }
   std::error_code ec;
   std::filesystem::rename(temporary, path, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot replace ({})", path, ec.message()));
+  if (ec) {
+    std::filesystem::remove(temporary, ec);
+    throw InputError(fmt::format("{}: cannot replace ({})", path, ec.message()));
+  }
 }
 
 std::ofstream openStepCsv(const std::string& path, const std::string& header,
@@ -48,7 +59,7 @@ std::ofstream openStepCsv(const std::string& path, const std::string& header,
     out.open(path, std::ios::trunc);
     out << header << '\n';
   }
-  if (!out) throw InputError(fmt::format("{}: cannot write file", path));
+  if (!out) io::throwWriteError(path);
   return out;
 }
 

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 
 #include "bcassim/Error.h"
@@ -54,6 +56,14 @@ void createParentDirectory(const std::string& path) {
   if (ec)
     throw InputError(
         fmt::format("{}: cannot create directory '{}' ({})", path, parent.string(), ec.message()));
+}
+
+std::string systemErrorText(int error) {
+  return error == 0 ? std::string("unknown cause") : std::string(std::strerror(error));
+}
+
+void throwWriteError(const std::string& path) {
+  throw InputError(fmt::format("{}: cannot write file ({})", path, systemErrorText(errno)));
 }
 
 std::string lowerExtension(const std::string& path) {

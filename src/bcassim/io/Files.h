@@ -28,6 +28,15 @@ class MappedFile {
   bool mapped_ = false;
 };
 
+// The system's text for an errno value ("No space left on device"), for the message of a failed
+// open, write, flush, close or rename; "unknown cause" for 0. Take errno right after the failing
+// call: anything else may change it.
+std::string systemErrorText(int error);
+
+// Throws InputError "<path>: cannot write file (<errno's text>)", e.g. "(No space left on
+// device)", for a failed open, write, flush or close; call it right after the failing call.
+[[noreturn]] void throwWriteError(const std::string& path);
+
 // Lower-case extension with its dot, e.g. ".vtu"; empty when none.
 std::string lowerExtension(const std::string& path);
 

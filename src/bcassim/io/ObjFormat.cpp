@@ -86,7 +86,7 @@ TriMesh readObj(const std::string& path) {
 void writeObj(const std::string& path, const TriMesh& mesh) {
   io::createParentDirectory(path);
   std::ofstream out(path, std::ios::binary);
-  if (!out) throw InputError(fmt::format("{}: cannot write file", path));
+  if (!out) io::throwWriteError(path);
   fmt::memory_buffer buffer;
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
     fmt::format_to(std::back_inserter(buffer), "v {} {} {}\n", mesh.V(i, 0), mesh.V(i, 1),
@@ -96,7 +96,7 @@ void writeObj(const std::string& path, const TriMesh& mesh) {
                    mesh.F(t, 2) + 1);
   out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
   out.close();
-  if (!out) throw InputError(fmt::format("{}: cannot write file", path));
+  if (!out) io::throwWriteError(path);
 }
 
 }  // namespace bcassim

@@ -16,13 +16,13 @@ namespace {
 std::ofstream openCsv(const std::string& path) {
   io::createParentDirectory(path);
   std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("{}: cannot write file ({})", path, std::strerror(errno)));
+  if (!out) io::throwWriteError(path);
   return out;
 }
 
 void finish(std::ofstream& out, const std::string& path) {
   out.flush();
-  if (!out) throw InputError(fmt::format("{}: write failed ({})", path, std::strerror(errno)));
+  if (!out) io::throwWriteError(path);
 }
 
 }  // namespace

@@ -4,13 +4,16 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
+#include "bcassim/io/Files.h"
 #include "bcassim/io/MeshWriter.h"
 #include "bcassim/io/TextLines.h"
 
@@ -159,11 +162,19 @@ void PvdSeries::rewriteIndex() const {
     std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
     file.write(xml.data(), static_cast<std::streamsize>(xml.size()));
     file.close();
-    if (!file) throw InputError(fmt::format("{}: cannot write file", temporary));
+    if (!file) {
+      const int error = errno;
+      std::remove(temporary.c_str());  // the index of the run stays as it was
+      errno = error;
+      io::throwWriteError(temporary);
+    }
   }
   std::error_code ec;
   std::filesystem::rename(temporary, path, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot write file ({})", path, ec.message()));
+  if (ec) {
+    std::filesystem::remove(temporary, ec);
+    throw InputError(fmt::format("{}: cannot write file ({})", path, ec.message()));
+  }
 }
 
 }  // namespace bcassim

@@ -9,6 +9,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/io/CsvTruncate.h"
+#include "bcassim/io/Files.h"
 
 namespace bcassim {
 
@@ -47,7 +48,7 @@ void EstimatesWriter::write(int step, double time, const Eigen::VectorXd& mean,
   }
   out_ << rows;
   out_.flush();
-  if (!out_) throw InputError(path_ + ": write failed");
+  if (!out_) io::throwWriteError(path_);
 }
 
 std::map<std::string, FinalEstimate> readFinalEstimates(const std::string& path) {

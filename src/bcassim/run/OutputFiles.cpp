@@ -1,6 +1,7 @@
 #include "bcassim/run/OutputFiles.h"
 
 #include "bcassim/Error.h"
+#include "bcassim/io/Files.h"
 
 namespace bcassim {
 
@@ -8,13 +9,13 @@ std::ofstream openForWriting(const std::filesystem::path& path) {
   std::error_code ec;
   std::filesystem::create_directories(path.parent_path(), ec);
   std::ofstream out(path);
-  if (!out) throw InputError(path.string() + ": cannot write file");
+  if (!out) io::throwWriteError(path.string());
   return out;
 }
 
 void flushOrThrow(std::ofstream& out, const std::filesystem::path& path) {
   out.flush();
-  if (!out) throw InputError(path.string() + ": write failed");
+  if (!out) io::throwWriteError(path.string());
 }
 
 void createOutputDirectory(const std::filesystem::path& dir) {

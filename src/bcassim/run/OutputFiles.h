@@ -7,10 +7,11 @@
 namespace bcassim {
 
 // Creates the parent folder if missing and truncates `path`. Throws InputError "<path>: cannot
-// write file".
+// write file (<errno's text>)".
 std::ofstream openForWriting(const std::filesystem::path& path);
 
-// Flushes `out` (written to `path`); throws InputError "<path>: write failed" if it failed.
+// Flushes `out` (written to `path`); throws InputError "<path>: cannot write file (<errno's text>)"
+// if it failed.
 void flushOrThrow(std::ofstream& out, const std::filesystem::path& path);
 
 // Creates the run's output folder; throws InputError "<dir>: cannot create directory (why)".

@@ -15,6 +15,7 @@
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/MeshReader.h"
 #include "bcassim/io/PointReader.h"
+#include "bcassim/io/TextLines.h"
 #include "bcassim/ligaments/LigamentSprings.h"
 #include "bcassim/mesh/BoundarySurface.h"
 #include "bcassim/mesh/MeshGenerators.h"
@@ -42,7 +43,12 @@ std::string indexed(const std::string& path, size_t i) {
 // Scene defaults, documented in docs/scene-format.md.
 constexpr double kDefaultYoungModulus = 8000.0;  // Pa, thesis cylinder
 constexpr double kDefaultPoissonRatio = 0.49;
-constexpr double kDefaultSpringLength = 0.03;  // m, thesis ligament springs
+constexpr double kDefaultSpringLength = 0.03;       // m, thesis ligament springs
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+constexpr int kDefaultMaxGeneratedNodes = 5000;  // a fuzz input must build in well under 10 s
+#else
+constexpr int kDefaultMaxGeneratedNodes = 2000000;  // a mesh of a few hundred MB
+#endif
 const CubicSpringCoefficients kDefaultSpringCoefficients{4.0, 7.0, 20.0};  // thesis cylinder truth
 
 std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& top) {
@@ -50,11 +56,12 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
     failAt(src, top.self(), "", "missing section 'mesh' (a generator or a file)");
   MapReader m(src, top.node("mesh"), "mesh",
               {"generator", "radius", "length", "target_nodes", "size", "cells", "target_tets",
-               "file", "region_field", "scale"});
+               "file", "region_field", "scale", "max_nodes"});
   auto mesh = std::make_shared<TetMesh>();
   if (m.has("file")) {
     if (m.has("generator")) m.fail("generator", "expected either a generator or a file, not both");
-    for (const char* k : {"radius", "length", "target_nodes", "size", "cells", "target_tets"})
+    for (const char* k :
+         {"radius", "length", "target_nodes", "size", "cells", "target_tets", "max_nodes"})
       m.rejectUnless(false, k, "a generated mesh (mesh.generator)");
     const std::string path = m.existingFile("file");
     const std::string field = m.text("region_field", "");
@@ -75,10 +82,17 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
   for (const char* k : {"size", "cells", "target_tets"})
     m.rejectUnless(!cylinder, k, "generator box");
   // Parameters are read (and their errors located) first; the generators only add their own.
+  // A size beyond max_nodes is refused before any work: a typo must not run out of memory.
+  const int maxNodes = m.integer("max_nodes", kDefaultMaxGeneratedNodes, Range::AtLeastOne);
+  const auto beyondMaxNodes = [&](const char* key, long long nodes, const std::string& asked) {
+    if (nodes > maxNodes)
+      m.fail(key, fmt::format("{}; expected at most {} nodes (mesh.max_nodes)", asked, maxNodes));
+  };
   if (cylinder) {
     const double radius = m.number("radius", 0.015, "m", Range::Positive);
     const double length = m.number("length", 0.18, "m", Range::Positive);
     const int nodes = m.integer("target_nodes", 915, Range::AtLeastOne);
+    beyondMaxNodes("target_nodes", nodes, fmt::format("{} nodes asked", nodes));
     yamlio::withContext(src, m.node("generator"), "mesh",
                         [&] { *mesh = makeCylinderMesh(radius, length, nodes); });
     return mesh;
@@ -87,6 +101,9 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
   if (m.has("target_tets")) {
     if (m.has("cells")) m.fail("cells", "expected either cells or target_tets, not both");
     const int tets = m.integer("target_tets", 0, Range::AtLeastOne);
+    // 6 tets per hexahedron, at least one node per hexahedron.
+    beyondMaxNodes("target_tets", tets / 6,
+                   fmt::format("{} tets make at least {} nodes", tets, tets / 6));
     yamlio::withContext(src, m.node("generator"), "mesh",
                         [&] { *mesh = makeBoxMeshWithTargetTets(size, tets); });
     return mesh;
@@ -100,6 +117,10 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
     for (int i = 0; i < 3; ++i)
       cells[i] = yamlio::parseInteger(src, c[i], indexed("mesh.cells", i), Range::AtLeastOne);
   }
+  const long long boxNodes = (cells[0] + 1LL) * (cells[1] + 1LL) * (cells[2] + 1LL);
+  beyondMaxNodes(
+      "cells", boxNodes,
+      fmt::format("{} x {} x {} cells make {} nodes", cells[0], cells[1], cells[2], boxNodes));
   yamlio::withContext(src, m.node("generator"), "mesh",
                       [&] { *mesh = makeBoxMesh(size, cells[0], cells[1], cells[2]); });
   return mesh;
@@ -369,6 +390,12 @@ MarkerSet readMappedPoints(const YamlSource& src, const MapReader& r, const std:
   Eigen::MatrixX3d P;
   if (r.has("region")) {
     std::vector<int> nodes = requiredRegion(src, r, mesh);
+    if (r.has("count") && count < 1)
+      r.fail("count", fmt::format("{} points asked; expected at least 1", count));
+    if (count > static_cast<long long>(nodes.size()))
+      r.fail("count",
+             fmt::format("{} points asked, but the region has {} nodes; expected at most {}", count,
+                         nodes.size(), nodes.size()));
     if (count > 0) nodes = farthestPointSample(mesh, nodes, count);
     MarkerSet set;
     yamlio::withContext(src, r.node("region"), r.pathOf("region"),
@@ -623,7 +650,9 @@ YAML::Node parse(const std::string& yaml, const YamlSource& src) {
   try {
     return YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
-    throw InputError(src.file + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
+    // yaml-cpp quotes the offending character raw (a line break, an escape byte): escaped here.
+    throw InputError(src.file + ":" + std::to_string(e.mark.line + 1) +
+                     ": invalid YAML: " + io::excerpt(e.msg, 200));
   }
 }
 

@@ -11,6 +11,7 @@
 #include "bcassim/experiments/liver/LiverScenes.h"
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/CsvTracks.h"
+#include "bcassim/io/Files.h"
 #include "bcassim/scene/ModelParameter.h"
 
 namespace bcassim {
@@ -130,7 +131,7 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
       out << fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", k + 1,
                          (k + 1) * options.dt, est.mean[k], est.max[k], pri.mean[k], pri.max[k],
                          fixed.mean[k], fixed.max[k]);
-    if (!out) throw InputError((dir / "errors_over_time.csv").string() + ": cannot write file");
+    if (!out) io::throwWriteError((dir / "errors_over_time.csv").string());
   }
   {
     std::ofstream out(dir / "summary.csv");

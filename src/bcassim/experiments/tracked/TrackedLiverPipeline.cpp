@@ -13,6 +13,7 @@
 #include "bcassim/Stopwatch.h"
 #include "bcassim/experiments/liver/LiverScenes.h"
 #include "bcassim/io/CsvTracks.h"
+#include "bcassim/io/Files.h"
 #include "bcassim/io/PointCsvWriter.h"
 #include "bcassim/io/SurfaceReader.h"
 #include "bcassim/mesh/BoundarySurface.h"
@@ -75,7 +76,7 @@ void writeMatrix4(const fs::path& path, const RigidTransform& t) {
     f << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g}\n", t.rotation(r, 0), t.rotation(r, 1),
                      t.rotation(r, 2), t.translation(r));
   f << "0,0,0,1\n";
-  if (!f) throw InputError(path.string() + ": cannot write file");
+  if (!f) io::throwWriteError(path.string());
 }
 
 // The truth's tacker tracks after `restFrames` + 1 frames of the rest state (t = -restFrames dt
@@ -105,7 +106,7 @@ std::vector<double> errorsAt(const fs::path& modelCsv, const MarkerTracks& truth
 void writeTrackingReport(const fs::path& path, const std::vector<std::string>& lines) {
   std::ofstream f(path);
   for (const std::string& l : lines) f << l << '\n';
-  if (!f) throw InputError(path.string() + ": cannot write file");
+  if (!f) io::throwWriteError(path.string());
 }
 
 }  // namespace
@@ -308,7 +309,7 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
     for (size_t i = 0; i < report.scenarios[0].atPeakMm.size(); ++i)
       f << fmt::format("{},{:.6g},{:.6g},{:.6g}\n", i, report.scenarios[0].atPeakMm[i],
                        report.scenarios[1].atPeakMm[i], report.scenarios[2].atPeakMm[i]);
-    if (!f) throw InputError((dir / "tre.csv").string() + ": cannot write file");
+    if (!f) io::throwWriteError((dir / "tre.csv").string());
   }
   {
     std::ofstream f(dir / "summary.csv");
@@ -337,7 +338,7 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
         report.atlasUsed ? "" : " (no atlas: the expert curve)", report.assimilation.medianStepMs,
         report.atlas.buildSeconds, report.atlas.transferSeconds, report.truth.wallSeconds,
         report.seconds);
-    if (!f) throw InputError((dir / "summary.csv").string() + ": cannot write file");
+    if (!f) io::throwWriteError((dir / "summary.csv").string());
   }
   return report;
 }
