@@ -5,9 +5,8 @@
 #include <zlib.h>
 
 #include <cstdint>
-#include <fstream>
-
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "bcassim/Error.h"

@@ -43,7 +43,7 @@ std::string indexed(const std::string& path, size_t i) {
 // Scene defaults, documented in docs/scene-format.md.
 constexpr double kDefaultYoungModulus = 8000.0;  // Pa, thesis cylinder
 constexpr double kDefaultPoissonRatio = 0.49;
-constexpr double kDefaultSpringLength = 0.03;       // m, thesis ligament springs
+constexpr double kDefaultSpringLength = 0.03;  // m, thesis ligament springs
 #ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
 constexpr int kDefaultMaxGeneratedNodes = 5000;  // a fuzz input must build in well under 10 s
 #else
