@@ -38,11 +38,11 @@ std::string staticCylinder(const std::string& load, int steps, const std::string
          load + "\noutput: {pvd: false}\n" + extra;
 }
 
-TEST(PointCloudForce, StaticFramesRecoverAKnownToolForceFromAPartialCloud) {
-  const fs::path dir = test::freshDir();
-  constexpr int kSteps = 6;
-  const Vec3 force(0.01, -0.04, 0.005);  // N
-  const Scene truth = loadSceneFromString(staticCylinder("[0.01, -0.04, 0.005]", kSteps, ""),
+// Solves the truth (force [0.01, -0.04, 0.005] N) and writes dir/cloud.txt: the deformed
+// centroids of the boundary triangles whose rest centroid has y > 0 (the part a camera above
+// sees), in m.
+void writeTruthCloud(const fs::path& dir, int steps) {
+  const Scene truth = loadSceneFromString(staticCylinder("[0.01, -0.04, 0.005]", steps, ""),
                                           "truth.yaml", dir.string());
   StaticSolver solver(truth.model, makeLinearSolver("cholmod"), truth.statics);
   Eigen::VectorXd x = truth.model.restPositions();
@@ -66,6 +66,13 @@ TEST(PointCloudForce, StaticFramesRecoverAKnownToolForceFromAPartialCloud) {
   }
   cloud.close();
   ASSERT_GT(points, 30);
+}
+
+TEST(PointCloudForce, StaticFramesRecoverAKnownToolForceFromAPartialCloud) {
+  const fs::path dir = test::freshDir();
+  constexpr int kSteps = 6;
+  const Vec3 force(0.01, -0.04, 0.005);  // N, as writeTruthCloud
+  writeTruthCloud(dir, kSteps);
   // The same force every frame: one cloud file per step.
   for (int k = 1; k <= kSteps; ++k)
     fs::copy_file(dir / "cloud.txt", dir / ("pc" + std::to_string(k) + ".txt"));
@@ -97,6 +104,40 @@ TEST(PointCloudForce, StaticFramesRecoverAKnownToolForceFromAPartialCloud) {
     EXPECT_EQ(r.observedSteps, kSteps) << filter;
     EXPECT_TRUE(r.notices.empty()) << filter << ": " << r.notices.front();
   }
+}
+
+// A frame in millimetres for a mesh in metres (tracking's unit check) is left out with one
+// notice; the run goes on with the other frames.
+TEST(PointCloudForce, AFrameInMillimetresIsLeftOutWithANotice) {
+  const fs::path dir = test::freshDir();
+  constexpr int kSteps = 3;
+  writeTruthCloud(dir, kSteps);
+  fs::copy_file(dir / "cloud.txt", dir / "pc1.txt");
+  fs::copy_file(dir / "cloud.txt", dir / "pc3.txt");
+  {
+    std::ifstream in(dir / "cloud.txt");
+    std::ofstream mm(dir / "pc2.txt");
+    for (double x, y, z; in >> x >> y >> z;)
+      mm << 1000 * x << ' ' << 1000 * y << ' ' << 1000 * z << '\n';
+  }
+  const Scene scene = loadSceneFromString(
+      staticCylinder("[0, 0, 0]", kSteps,
+                     "assimilation:\n"
+                     "  parameters:\n"
+                     "    - {force: {load: 0, component: y}, mean: 0, stddev: 0.05}\n"
+                     "  observations:\n"
+                     "    point_cloud: {files: \"pc*.txt\"}\n"
+                     "    sigma: 1.0e-5\n"),
+      "estimation.yaml", dir.string());
+  const AssimilationResult r = runAssimilation(scene, (dir / "est").string());
+  EXPECT_EQ(r.observedSteps, 2);
+  ASSERT_EQ(r.notices.size(), 1u);
+  EXPECT_EQ(r.notices[0].rfind("pc2.txt: ", 0), 0u) << r.notices[0];
+  EXPECT_NE(r.notices[0].find("; step 2 is a prediction only"), std::string::npos) << r.notices[0];
+  std::ifstream notices(dir / "est" / "notices.txt");
+  std::string line;
+  ASSERT_TRUE(std::getline(notices, line));
+  EXPECT_EQ(line, r.notices[0]);
 }
 
 }  // namespace
