@@ -21,7 +21,7 @@ Eigen::MatrixXd sqrtFactor(const Eigen::MatrixXd& L, const Eigen::MatrixXd& U, R
 }  // namespace
 
 RoukfFilter::RoukfFilter(StochasticState layout, std::vector<ForecastModel*> models,
-                         Executor& executor, RoukfOptions options)
+                         Executor& executor, const RoukfOptions& options)
     : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone,
                 options.observation) {
   const StochasticState& s = ensemble_.layout();

@@ -36,7 +36,7 @@ struct RoukfOptions : FilterOptions {
 class RoukfFilter final : public Filter {
  public:
   RoukfFilter(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
-              RoukfOptions options = {});
+              const RoukfOptions& options = {});
 
   FilterStepReport step(const Observation& y) override;
   const Eigen::VectorXd& mean() const override { return x_; }

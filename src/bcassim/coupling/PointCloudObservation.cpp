@@ -43,7 +43,7 @@ Observation PointCloudObservation::linearize(const Eigen::VectorXd& meanObservab
                     frame.values.size(), frame.variance.size()));
   const int n = static_cast<int>(frame.values.size() / 3);
   const auto present = [&](int i) {
-    return frame.present.empty() || frame.present[static_cast<size_t>(3 * i)];
+    return frame.present.empty() || frame.present[3 * static_cast<size_t>(i)];
   };
 
   // The mean's surface, searched once per point (the triangles keep the mesh's node ids).
@@ -92,12 +92,13 @@ Observation PointCloudObservation::linearize(const Eigen::VectorXd& meanObservab
   if (residual_ == CloudResidual::Point) {
     out.values = frame.values;
     out.variance = frame.variance;
-    out.present.assign(static_cast<size_t>(3 * n), false);
+    out.present.assign(3 * static_cast<size_t>(n), false);
     for (int i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c)
-        out.present[static_cast<size_t>(3 * i + c)] =
+        out.present[3 * static_cast<size_t>(i) + static_cast<size_t>(c)] =
             used[static_cast<size_t>(i)] &&
-            (frame.present.empty() || frame.present[static_cast<size_t>(3 * i + c)]);
+            (frame.present.empty() ||
+             frame.present[3 * static_cast<size_t>(i) + static_cast<size_t>(c)]);
     return out;
   }
   out.values.resize(n);

@@ -348,11 +348,13 @@ AssimilationFiles openFiles(const Scene& scene, const AssimilationSetup& setup, 
                                : std::make_unique<EstimatesWriter>(estimates, names);
   files.filterPath = dir / "filter.csv";
   files.timingPath = dir / "timing.csv";
-  files.filter =
-      openStepCsv(files.filterPath.string(),
-                  "step,time_s,observed_entries,innovation_norm_m,covariance_repairs,cloud_points,"
-                  "cloud_points_used,cloud_median_distance_m,cloud_cutoff_m",
-                  cutAt);
+  // The cloud columns only with a point cloud: marker runs keep their five columns.
+  files.filter = openStepCsv(
+      files.filterPath.string(),
+      std::string("step,time_s,observed_entries,innovation_norm_m,covariance_repairs") +
+          (setup.cloud ? ",cloud_points,cloud_points_used,cloud_median_distance_m,cloud_cutoff_m"
+                       : ""),
+      cutAt);
   files.timing =
       openStepCsv(files.timingPath.string(),
                   "step,time_s,forecast_ms,correction_ms,total_ms,validation_ms,assembly_cpu_ms,"
@@ -516,9 +518,12 @@ FilterStepReport filterStep(int step, const Scene& scene, AssimilationSetup& set
       loop.result.notices.push_back(line);
     }
   }
-  files.filter << fmt::format("{},{:.9g},{},{:.6g},{},{},{},{:.6g},{:.6g}\n", step, time,
-                              report.observed, report.innovationNorm, report.covarianceRepairs,
-                              cloud.points, cloud.used, cloud.medianDistance, cloud.cutoff);
+  files.filter << fmt::format("{},{:.9g},{},{:.6g},{}", step, time, report.observed,
+                              report.innovationNorm, report.covarianceRepairs);
+  if (setup.cloud)
+    files.filter << fmt::format(",{},{},{:.6g},{:.6g}", cloud.points, cloud.used,
+                                cloud.medianDistance, cloud.cutoff);
+  files.filter << '\n';
   flushOrThrow(files.filter, files.filterPath);
 
   const Clock::time_point v0 = Clock::now();

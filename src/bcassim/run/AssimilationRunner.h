@@ -60,8 +60,9 @@ struct AssimilationResult {
 // Assimilates scene.assimilation (which must be set) over scene.steps steps, writing to outDir:
 //   parameters.csv  parameter,initial_mean,initial_stddev,truth,final_mean,final_stddev
 //   estimates.csv   step,time_s,parameter,mean,stddev (step 0 = prior)
-//   filter.csv      step,time_s,observed_entries,innovation_norm_m,covariance_repairs,
-//                   cloud_points,cloud_points_used,cloud_median_distance_m,cloud_cutoff_m
+//   filter.csv      step,time_s,observed_entries,innovation_norm_m,covariance_repairs, and
+//                   with a point cloud cloud_points,cloud_points_used,cloud_median_distance_m,
+//                   cloud_cutoff_m
 //   notices.txt     bad input the run went around, one line each (AssimilationResult::notices)
 //   timing.csv      step,time_s,forecast_ms,correction_ms,total_ms,validation_ms
 //   errors.csv, errors_summary.csv  with validation tracks (docs/assimilation-format.md)

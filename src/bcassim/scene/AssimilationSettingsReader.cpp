@@ -350,6 +350,9 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
                                  : FilterKind::Etkf;
   r.rejectUnless(s.filter != FilterKind::Etkf, "sigma_points", "filters ukf and roukf");
   r.rejectUnless(s.filter == FilterKind::Etkf, "members", "filter etkf");
+  // A parameter's random walk is the way to process noise with roukf (in its reduced space).
+  r.rejectUnless(s.filter != FilterKind::Roukf, "inflation",
+                 "filters ukf and etkf (roukf keeps its rank)");
   const std::string sigma =
       r.choice("sigma_points", s.filter == FilterKind::Ukf ? "star" : "simplex",
                {"star", "canonical", "simplex"});
