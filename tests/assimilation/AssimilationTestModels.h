@@ -38,7 +38,7 @@ class LinearModel final : public ForecastModel {
  public:
   explicit LinearModel(const LinearSystem& s) : s_(s) {}
   Eigen::Index stateSize() const override { return s_.A.rows(); }
-  Eigen::Index observationSize() const override { return s_.H.rows(); }
+  Eigen::Index observableSize() const override { return s_.H.rows(); }
   void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
                 Eigen::VectorXd& newState, Eigen::VectorXd& predicted) override {
     newState = s_.A * state + s_.B * params + s_.forcing(step_);
@@ -129,7 +129,7 @@ class Oscillator final : public ForecastModel {
  public:
   static constexpr double dt = 0.05, damping = 0.2, omega = 1.3;
   Eigen::Index stateSize() const override { return 2; }
-  Eigen::Index observationSize() const override { return 1; }
+  Eigen::Index observableSize() const override { return 1; }
   void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
                 Eigen::VectorXd& newState, Eigen::VectorXd& predicted) override {
     newState = advance(state, params[0], step_);
@@ -165,7 +165,7 @@ class StaticSpring final : public ForecastModel {
  public:
   static double load(int step) { return 1.0 + 0.5 * std::sin(0.2 * step); }
   Eigen::Index stateSize() const override { return 0; }
-  Eigen::Index observationSize() const override { return 1; }
+  Eigen::Index observableSize() const override { return 1; }
   void forecast(const Eigen::VectorXd&, const Eigen::VectorXd& params, Eigen::VectorXd& newState,
                 Eigen::VectorXd& predicted) override {
     newState.resize(0);

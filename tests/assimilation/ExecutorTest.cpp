@@ -104,7 +104,7 @@ class RecordingModel final : public ForecastModel {
   };
   RecordingModel(std::mutex& mutex, std::vector<Event>& log) : mutex_(mutex), log_(log) {}
   Eigen::Index stateSize() const override { return 0; }
-  Eigen::Index observationSize() const override { return 1; }
+  Eigen::Index observableSize() const override { return 1; }
   void forecast(const Eigen::VectorXd&, const Eigen::VectorXd& params, Eigen::VectorXd& newState,
                 Eigen::VectorXd& predicted) override {
     record({true, params[0]});
@@ -151,7 +151,7 @@ class NestedTbbModel final : public ForecastModel {
  public:
   std::atomic<bool> reentered = false;
   Eigen::Index stateSize() const override { return 1; }
-  Eigen::Index observationSize() const override { return 1; }
+  Eigen::Index observableSize() const override { return 1; }
   void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
                 Eigen::VectorXd& newState, Eigen::VectorXd& predicted) override {
     if (inside_.exchange(true)) reentered = true;

@@ -35,7 +35,7 @@ TEST(MechanicalForecastModel, ForecastIsOneImplicitEulerStepWithTheGivenParamete
                                   {YoungModulusTarget{0, "stvk", 0.45}}, initial, options, 0,
                                   nullptr);
   EXPECT_EQ(adapter.stateSize(), 6 * model.mesh->numNodes());
-  EXPECT_EQ(adapter.observationSize(), 15);
+  EXPECT_EQ(adapter.observableSize(), 15);
 
   Eigen::VectorXd newState, predicted;
   adapter.forecast(adapter.packState(initial), Eigen::VectorXd::Constant(1, 6000.0), newState,

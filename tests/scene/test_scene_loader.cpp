@@ -316,7 +316,7 @@ TEST(SceneLoader, ErrorsNameLineKeyAndExpectation) {
       "scene.yaml:4: fixed[0].components[1]: expected one of x, y, z, got 'w'");
   EXPECT_EQ(errorOf(b + "loads:\n  - region: {cube: 1}"),
             "scene.yaml:3: unknown key 'cube' in loads[0].region; expected one of box, sphere, "
-            "half_space, nodes, surface_patch");
+            "half_space, nodes, nodes_file, surface_patch");
   EXPECT_EQ(errorOf(b + "loads:\n  - region: {sphere: {center: [0,0,0], radius: 0.001}}\n"
                         "    total_force: [1,0,0]\n    force_per_node: [1,0,0]"),
             "scene.yaml:5: loads[0].force_per_node: expected either total_force or force_per_node, "

@@ -24,7 +24,8 @@ Eigen::MatrixXd standardNormal(Eigen::Index rows, Eigen::Index cols, std::mt1993
 
 EtkfFilter::EtkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
                        Executor& executor, EtkfOptions options)
-    : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone),
+    : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone,
+                options.observation),
       options_(std::move(options)),
       rng_(options_.seed) {
   const StochasticState& s = ensemble_.layout();
@@ -58,26 +59,37 @@ void EtkfFilter::reset(Eigen::MatrixXd members) {
 
 FilterStepReport EtkfFilter::step(const Observation& y) {
   const auto start = Clock::now();
-  const ObservedSubset obs(y, ensemble_.observationSize());
   FilterStepReport report;
   const Eigen::Index N = members_.cols();
   const double nm1 = static_cast<double>(N - 1);
 
+  // The draws are centred over the members: inflation widens the ensemble, never moves its mean.
+  auto inflation = [&] {
+    Eigen::MatrixXd noise = options_.processVariance.cwiseSqrt().asDiagonal() *
+                            standardNormal(members_.rows(), N, rng_);
+    noise.colwise() -= noise.rowwise().mean();
+    return noise;
+  };
+  const bool inflate = options_.processVariance.size() != 0;
+  // Parameters only (static frames): the observations of this step depend on the parameters
+  // directly, so the members are inflated before they are forecast, as the Kalman filter's
+  // P + Q comes before its prediction; otherwise after the forecast (Alg. 3 line 18).
+  const bool inflateFirst = inflate && ensemble_.layout().physicalSize() == 0;
+  if (inflateFirst) members_ += inflation();
+
   // Prediction (Alg. 3 lines 13-20).
-  Eigen::MatrixXd Xf, Z;
+  Eigen::MatrixXd Xf, O, Z;
   const auto forecastStart = Clock::now();
-  ensemble_.forecast(members_, Xf, Z);
+  ensemble_.forecast(members_, Xf, O);
   report.seconds.forecast = secondsSince(forecastStart);
 
   const auto correctionStart = Clock::now();
   x_ = Xf.rowwise().mean();
   Eigen::MatrixXd Xp = Xf.colwise() - x_;
-  if (options_.processVariance.size() != 0) {
-    Eigen::MatrixXd noise =
-        options_.processVariance.cwiseSqrt().asDiagonal() * standardNormal(Xp.rows(), N, rng_);
-    noise.colwise() -= noise.rowwise().mean();
-    Xp += noise;
-  }
+  if (inflate && !inflateFirst) Xp += inflation();
+  const Eigen::VectorXd equal = Eigen::VectorXd::Constant(N, 1.0 / static_cast<double>(N));
+  const Observation used = ensemble_.predict(y, equal, O, Z);
+  const ObservedSubset obs(used, Z.rows());
 
   if (obs.empty()) {
     members_ = Xp.colwise() + x_;

@@ -16,7 +16,9 @@ struct EtkfOptions : FilterOptions {
   std::uint64_t seed = 1;  // std::mt19937_64: the same seed gives the same run
   // Additive inflation (Alg. 3 line 18): after each forecast every member's perturbation gets a
   // draw of N(0, diag(processVariance)) (unconstrained space); empty = none. The draws are centred
-  // over the members so that inflation widens the ensemble without moving its mean.
+  // over the members so that inflation widens the ensemble without moving its mean. With a
+  // parameter-only state the members get it before their forecast (the step's observations
+  // depend on the parameters directly: a random walk).
   Eigen::VectorXd processVariance;
 };
 

@@ -19,8 +19,10 @@ struct FilterState {
 class Filter {
  public:
   virtual ~Filter() = default;
-  // Forecasts every sigma point / member one step (in parallel through the executor), corrects
-  // with the present entries of `y` (none: prediction only) and calls endStep() on the models.
+  // Forecasts every sigma point / member one step (in parallel through the executor); with data,
+  // linearises the observation operator (FilterOptions::observation) at the forecasts' mean and
+  // predicts every forecast's observation through it; corrects with the entries of `y` the
+  // operator keeps (none: prediction only) and calls endStep() on the models.
   virtual FilterStepReport step(const Observation& y) = 0;
   // Current mean of the stochastic state [physical; parameters] in the filter's unconstrained
   // space, and its covariance (formed on demand by the reduced and ensemble filters).

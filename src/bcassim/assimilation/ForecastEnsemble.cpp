@@ -9,11 +9,13 @@
 namespace bcassim {
 
 ForecastEnsemble::ForecastEnsemble(StochasticState layout, std::vector<ForecastModel*> models,
-                                   Executor& executor, bool firstAlone)
+                                   Executor& executor, bool firstAlone,
+                                   ObservationOperator* observation)
     : layout_(std::move(layout)),
       models_(std::move(models)),
       executor_(executor),
-      firstAlone_(firstAlone) {
+      firstAlone_(firstAlone),
+      observation_(observation) {
   if (static_cast<int>(models_.size()) < executor_.workers())
     throw InputError(fmt::format("{} forecast models for {} executor workers: one per worker",
                                  models_.size(), executor_.workers()));
@@ -22,36 +24,36 @@ ForecastEnsemble::ForecastEnsemble(StochasticState layout, std::vector<ForecastM
     if (model->stateSize() != layout_.physicalSize())
       throw InputError(fmt::format("forecast model state has {} entries, stochastic state {}",
                                    model->stateSize(), layout_.physicalSize()));
-    if (model->observationSize() != models_.front()->observationSize())
-      throw InputError("forecast models disagree on the number of observations");
+    if (model->observableSize() != models_.front()->observableSize())
+      throw InputError("forecast models disagree on the size of their observables");
   }
-  observationSize_ = models_.empty() ? 0 : models_.front()->observationSize();
+  observableSize_ = models_.empty() ? 0 : models_.front()->observableSize();
 }
 
 void ForecastEnsemble::forecastColumn(int t, int worker, const Eigen::MatrixXd& points,
-                                      Eigen::MatrixXd& forecasts, Eigen::MatrixXd& predicted) {
+                                      Eigen::MatrixXd& forecasts, Eigen::MatrixXd& observables) {
   const Eigen::Index m = layout_.physicalSize();
   const Eigen::VectorXd state = points.col(t).head(m);
-  Eigen::VectorXd params, newState, z;
+  Eigen::VectorXd params, newState, o;
   layout_.physicalParameters(points.col(t), params);
-  models_[worker]->forecast(state, params, newState, z);
-  if (newState.size() != m || z.size() != observationSize_)
+  models_[worker]->forecast(state, params, newState, o);
+  if (newState.size() != m || o.size() != observableSize_)
     throw std::logic_error(fmt::format(
-        "forecast model returned {} state and {} observation entries, expected {} and {}",
-        newState.size(), z.size(), m, observationSize_));
-  if (!newState.allFinite() || !z.allFinite())
+        "forecast model returned {} state and {} observable entries, expected {} and {}",
+        newState.size(), o.size(), m, observableSize_));
+  if (!newState.allFinite() || !o.allFinite())
     throw NumericalError(fmt::format("forecast of sigma point {} is not finite", t));
   forecasts.col(t).head(m) = newState;
   forecasts.col(t).tail(layout_.parameterCount()) = points.col(t).tail(layout_.parameterCount());
-  predicted.col(t) = z;
+  observables.col(t) = o;
 }
 
 void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
-                                Eigen::MatrixXd& predicted) {
+                                Eigen::MatrixXd& observables) {
   const int s = static_cast<int>(points.cols());
   forecasts.resize(points.rows(), s);
-  predicted.resize(observationSize_, s);
-  auto task = [&](int t, int worker) { forecastColumn(t, worker, points, forecasts, predicted); };
+  observables.resize(observableSize_, s);
+  auto task = [&](int t, int worker) { forecastColumn(t, worker, points, forecasts, observables); };
   if (firstAlone_ && s > 1) {
     // Alone and on worker 0, so that the others can reuse what it factorised (Alg. 4/5).
     task(0, 0);
@@ -59,6 +61,32 @@ void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& 
   } else {
     executor_.run(s, task);
   }
+}
+
+Observation ForecastEnsemble::predict(const Observation& frame, const Eigen::VectorXd& weights,
+                                      const Eigen::MatrixXd& observables,
+                                      Eigen::MatrixXd& predicted) {
+  if (frame.values.size() == 0) {
+    predicted.resize(0, observables.cols());
+    return frame;
+  }
+  ObservationOperator& op = observation_ ? *observation_ : direct_;
+  const Eigen::VectorXd mean = observables * weights;
+  Observation used = op.linearize(mean, frame);
+  const Eigen::Index m = used.values.size();
+  const int s = static_cast<int>(observables.cols());
+  predicted.resize(m, s);
+  executor_.run(s, [&](int t, int) {
+    Eigen::VectorXd z;
+    op.predict(observables.col(t), z);
+    if (z.size() != m)
+      throw std::logic_error(
+          fmt::format("observation operator predicted {} entries for a frame of {}", z.size(), m));
+    if (!z.allFinite())
+      throw NumericalError(fmt::format("predicted observation of sigma point {} is not finite", t));
+    predicted.col(t) = z;
+  });
+  return used;
 }
 
 void ForecastEnsemble::endStep(const Eigen::VectorXd& mean) {

@@ -1,11 +1,13 @@
 // The forecast step shared by every filter: advance a set of stochastic states (sigma points or
-// ensemble members) through the ForecastModels, in parallel, and collect predicted observations.
+// ensemble members) through the ForecastModels, in parallel, then predict their observations
+// through the step's ObservationOperator, linearised at the forecasts' mean.
 #pragma once
 #include <Eigen/Core>
 #include <vector>
 
 #include "bcassim/assimilation/Executor.h"
 #include "bcassim/assimilation/ForecastModel.h"
+#include "bcassim/assimilation/ObservationOperator.h"
 #include "bcassim/assimilation/StochasticState.h"
 
 namespace bcassim {
@@ -13,32 +15,44 @@ namespace bcassim {
 class ForecastEnsemble {
  public:
   // models[w] is used by executor worker w; models.size() >= executor.workers(). The models and
-  // the executor must outlive this object. Throws InputError if sizes disagree with `layout`.
+  // the executor must outlive this object; so must `observation` (null: DirectObservation).
+  // Throws InputError if sizes disagree with `layout`.
   ForecastEnsemble(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
-                   bool firstAlone);
+                   bool firstAlone, ObservationOperator* observation = nullptr);
 
   const StochasticState& layout() const { return layout_; }
-  Eigen::Index observationSize() const { return observationSize_; }
+  Eigen::Index observableSize() const { return observableSize_; }
 
   // Column t of `points` (layout().size() x s) is forecast one step: physical rows advanced by the
   // model, parameter rows carried over (parameters are constant in time, eq. 3.1 with T = Id on
-  // them). Writes forecasts (same shape) and predicted observations (observationSize() x s).
-  // Throws NumericalError if a model returns non-finite values.
+  // them; a random walk enters as the filters' process noise). Writes forecasts (same shape) and
+  // the forecasts' observables (observableSize() x s). Throws NumericalError if a model returns
+  // non-finite values.
   void forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
-                Eigen::MatrixXd& predicted);
+                Eigen::MatrixXd& observables);
+
+  // After forecast(), for a frame with data: linearises the observation operator at the mean of
+  // the observables (column weights `weights`, summing to 1) and predicts every column's
+  // observation into `predicted` (entries x s). Returns the frame as the filter must use it
+  // (ObservationOperator::linearize). A frame without data is returned as it is, `predicted`
+  // emptied. Throws NumericalError if a prediction is not finite.
+  Observation predict(const Observation& frame, const Eigen::VectorXd& weights,
+                      const Eigen::MatrixXd& observables, Eigen::MatrixXd& predicted);
 
   // Tells every model, in worker order, that the step ended at the analysed mean (unconstrained).
   void endStep(const Eigen::VectorXd& mean);
 
  private:
   void forecastColumn(int t, int worker, const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
-                      Eigen::MatrixXd& predicted);
+                      Eigen::MatrixXd& observables);
 
   StochasticState layout_;
   std::vector<ForecastModel*> models_;
   Executor& executor_;
   bool firstAlone_;
-  Eigen::Index observationSize_ = 0;
+  DirectObservation direct_;
+  ObservationOperator* observation_;  // null: direct_
+  Eigen::Index observableSize_ = 0;
 };
 
 }  // namespace bcassim

@@ -1,5 +1,6 @@
 // What a filter needs from the world, nothing more: advance one sigma point (or ensemble member)
-// one time step and predict its observations (T and H of eq. 3.1). No FEM here (thesis §3.3).
+// one time step and expose what can be observed of it (T of eq. 3.1; H is an
+// ObservationOperator over those observables). No FEM here (thesis §3.3).
 #pragma once
 #include <Eigen/Core>
 
@@ -28,6 +29,11 @@ namespace bcassim {
 //    mean itself). A model may therefore factorise its system matrix during the first forecast
 //    after endStep() and share it, read-only, as a preconditioner with the other instances
 //    (thesis Alg. 4/5); how they share it is the model's business.
+//  * forecast() also writes the forecast's observable: whatever the step's observation operator
+//    (ObservationOperator.h) maps to predicted measurements. With the default DirectObservation
+//    it is the predicted observation itself; an operator that must be fixed at the forecast
+//    mean (a point cloud observing the mean's surface) gets, e.g., node positions, and is
+//    linearised by the filter once all forecasts of the step are in, before any prediction.
 //  * Errors are thrown (NumericalError for a diverged step); the filter does not catch them.
 class ForecastModel {
  public:
@@ -35,16 +41,16 @@ class ForecastModel {
 
   // Size of the physical part of the stochastic state; 0 for parameter-only estimation.
   virtual Eigen::Index stateSize() const = 0;
-  // Number of predicted observation entries (e.g. 3 x markers).
-  virtual Eigen::Index observationSize() const = 0;
+  // Number of entries of a forecast's observable (e.g. 3 x markers, or 3 x nodes).
+  virtual Eigen::Index observableSize() const = 0;
 
   // Advances one time step from the reference, with the physical part overridden by `state`
   // (stateSize()) and parameters `params` (physical values, already transformed). Writes the new
-  // physical part (stateSize()) and the observations predicted at the new time
-  // (observationSize()). Observations come with the forecast because, with a parameter-only
-  // state, only the model knows the positions it just computed.
+  // physical part (stateSize()) and the observable at the new time (observableSize()). The
+  // observable comes with the forecast because, with a parameter-only state, only the model
+  // knows the positions it just computed.
   virtual void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
-                        Eigen::VectorXd& newState, Eigen::VectorXd& predicted) = 0;
+                        Eigen::VectorXd& newState, Eigen::VectorXd& observable) = 0;
 
   // The step is over: `state` and `params` (physical values) are the analysed mean.
   virtual void endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) = 0;

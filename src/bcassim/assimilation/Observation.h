@@ -8,7 +8,8 @@
 namespace bcassim {
 
 struct Observation {
-  // Measured values, ForecastModel::observationSize() entries; empty = no data this step.
+  // Measured values, as many as the observation operator predicts (ObservationOperator.h; the
+  // forecast model's observables by default); empty = no data this step.
   Eigen::VectorXd values;
   // Diagonal of R (sigma^2 per entry, > 0 where present); used when `covariance` is empty.
   Eigen::VectorXd variance;

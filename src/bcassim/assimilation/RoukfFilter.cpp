@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/LU>
+#include <Eigen/QR>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -19,9 +21,23 @@ Eigen::MatrixXd sqrtFactor(const Eigen::MatrixXd& L, const Eigen::MatrixXd& U, R
 }  // namespace
 
 RoukfFilter::RoukfFilter(StochasticState layout, std::vector<ForecastModel*> models,
-                         Executor& executor, RoukfOptions options)
-    : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone) {
+                         Executor& executor, const RoukfOptions& options)
+    : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone,
+                options.observation) {
   const StochasticState& s = ensemble_.layout();
+  const Eigen::VectorXd& q = options.processVariance;
+  if (q.size() != 0) {
+    if (q.size() != s.size())
+      throw InputError(fmt::format(
+          "process noise has {} variances, the stochastic state {} entries", q.size(), s.size()));
+    if (!q.head(s.physicalSize()).isZero(0.0))
+      throw InputError(
+          "reduced-order filter: process noise on the physical part would raise the rank; give "
+          "it on the parameters only");
+    if (!(q.array() >= 0.0).all() || !q.allFinite())
+      throw InputError("process noise variances must be finite and >= 0");
+    if (!q.isZero(0.0)) processVariance_ = q.tail(s.parameterCount());
+  }
   const Eigen::VectorXd sd = s.initialStddev();
   std::vector<Eigen::Index> reduced;
   for (Eigen::Index i = 0; i < s.size(); ++i)
@@ -58,9 +74,25 @@ void RoukfFilter::reset(Eigen::VectorXd mean, Eigen::MatrixXd L, Eigen::MatrixXd
   U_ = std::move(U);
 }
 
+// U^-1 += L_p^+ Q_p L_p^+T in the factored form U = (U^-1)^-1, U being the identity right after
+// the prediction. L_p (parameters x r) has full row rank while the parameters' covariance is
+// positive definite, so L_p L_p^+ = Id and the parameters' covariance grows by Q_p exactly.
+void RoukfFilter::addParameterNoise(RepairLog& repairs) {
+  if (processVariance_.size() == 0) return;
+  const Eigen::Index p = processVariance_.size();
+  const Eigen::MatrixXd Lp = L_.bottomRows(p);
+  const Eigen::MatrixXd pinv =
+      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(Lp).pseudoInverse();
+  Eigen::MatrixXd covariance = U_.inverse();
+  covariance.noalias() += pinv * processVariance_.asDiagonal() * pinv.transpose();
+  const Eigen::MatrixXd C = choleskyWithRepair(covariance, repairs);
+  const Eigen::MatrixXd Cinv =
+      C.triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(C.rows(), C.cols()));
+  U_ = Cinv.transpose() * Cinv;
+}
+
 FilterStepReport RoukfFilter::step(const Observation& y) {
   const auto start = Clock::now();
-  const ObservedSubset obs(y, ensemble_.observationSize());
   FilterStepReport report;
   RepairLog repairs;
 
@@ -68,9 +100,9 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
   // first changes nothing in exact arithmetic (sum w I = 0) but avoids cancellation when the
   // state is large (positions) and the spread small.
   const Eigen::MatrixXd X = sigma_.points(x_, sqrtFactor(L_, U_, repairs));
-  Eigen::MatrixXd Xf, Z;
+  Eigen::MatrixXd Xf, O, Z;
   const auto forecastStart = Clock::now();
-  ensemble_.forecast(X, Xf, Z);
+  ensemble_.forecast(X, Xf, O);
   report.seconds.forecast = secondsSince(forecastStart);
 
   const auto correctionStart = Clock::now();
@@ -81,6 +113,9 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
   // After the prediction P = L L^T: the reduced covariance is I D_w I^T = Id.
   const Eigen::Index r = rank();
   U_.setIdentity(r, r);
+  addParameterNoise(repairs);
+  const Observation used = ensemble_.predict(y, w, O, Z);
+  const ObservedSubset obs(used, Z.rows());
 
   // Correction (Alg. 2 lines 21-27) in whitened form: with W = R^-1/2 H_L and d = R^-1/2 (y - z),
   // U = I + W^T W and x += L U^-1 W^T d.

@@ -4,6 +4,7 @@
 #pragma once
 #include <vector>
 
+#include "bcassim/assimilation/CovarianceRepair.h"
 #include "bcassim/assimilation/Filter.h"
 #include "bcassim/assimilation/FilterOptions.h"
 #include "bcassim/assimilation/ForecastEnsemble.h"
@@ -15,18 +16,27 @@ struct RoukfOptions : FilterOptions {
   // The algebra needs only sum w I = 0 and sum w I I^T = Id, which every set satisfies; simplex is
   // the thesis' choice and the cheapest (r+1 forecasts).
   SigmaPointKind sigmaPoints = SigmaPointKind::Simplex;
+  // Process noise on the parameters (variances in the unconstrained space, one per stochastic
+  // state entry, zero on the physical part; empty = none): a random walk of the parameters, so
+  // that the filter follows parameters that change from step to step. Added in the reduced
+  // space, so the rank stays: with L_p the parameter rows of L after the forecast,
+  // U^-1 += L_p^+ Q_p L_p^+T, which adds exactly Q_p to the parameters' covariance and moves the
+  // physical part with them through the sensitivities L L_p^+ (Moireau & Chapelle 2011). With a
+  // parameter-only state this is the Kalman filter's P + Q.
+  Eigen::VectorXd processVariance;
 };
 
 // Reduced state: the r directions that carry uncertainty are every parameter plus every entry of
 // the physical part whose initial standard deviation is > 0 (none, typically: positions start
 // known and become uncertain only through the parameters). L (n x r) starts as the matching
 // columns of the identity and U = diag(1/sigma^2). The other physical entries are still in the
-// state and are corrected through the rows of L that the forecasts fill in (eq. 3.10). There is no
-// process noise: it would raise the rank.
+// state and are corrected through the rows of L that the forecasts fill in (eq. 3.10). Process
+// noise is taken on the parameters only (RoukfOptions::processVariance): on the physical part it
+// would raise the rank.
 class RoukfFilter final : public Filter {
  public:
   RoukfFilter(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
-              RoukfOptions options = {});
+              const RoukfOptions& options = {});
 
   FilterStepReport step(const Observation& y) override;
   const Eigen::VectorXd& mean() const override { return x_; }
@@ -44,8 +54,11 @@ class RoukfFilter final : public Filter {
   void reset(Eigen::VectorXd mean, Eigen::MatrixXd L, Eigen::MatrixXd U);
 
  private:
+  void addParameterNoise(RepairLog& repairs);
+
   ForecastEnsemble ensemble_;
   SigmaPointSet sigma_;
+  Eigen::VectorXd processVariance_;  // parameters' part of RoukfOptions::processVariance
   Eigen::VectorXd x_;
   Eigen::MatrixXd L_;
   Eigen::MatrixXd U_;

@@ -13,11 +13,10 @@
 #include "bcassim/assimilation/StarSigmaPoints.h"
 
 namespace bcassim {
-namespace {}  // namespace
-
 UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
                      UkfOptions options)
-    : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone),
+    : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone,
+                options.observation),
       options_(std::move(options)) {
   const StochasticState& s = ensemble_.layout();
   const Eigen::Index n = s.size();
@@ -48,15 +47,20 @@ Eigen::MatrixXd UkfFilter::covarianceFactor() const {
 
 FilterStepReport UkfFilter::step(const Observation& y) {
   const auto start = Clock::now();
-  const ObservedSubset obs(y, ensemble_.observationSize());
   FilterStepReport report;
   RepairLog repairs;
 
+  // Parameters only (static frames): the step's observations depend on the parameters directly,
+  // so Q enters before the sigma points are drawn, as in the Kalman filter's P + Q (with F = Id).
+  const bool noiseFirst =
+      options_.processVariance.size() != 0 && ensemble_.layout().physicalSize() == 0;
+  if (noiseFirst) P_.diagonal() += options_.processVariance;
+
   // Prediction (Alg. 1 lines 9-14).
   const Eigen::MatrixXd X = sigma_.points(x_, options_.spread * choleskyWithRepair(P_, repairs));
-  Eigen::MatrixXd Xf, Z;
+  Eigen::MatrixXd Xf, O, Z;
   const auto forecastStart = Clock::now();
-  ensemble_.forecast(X, Xf, Z);
+  ensemble_.forecast(X, Xf, O);
   report.seconds.forecast = secondsSince(forecastStart);
 
   const auto correctionStart = Clock::now();
@@ -65,7 +69,10 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   const double unscale = 1.0 / options_.spread;
   const Eigen::MatrixXd dX = unscale * (Xf.colwise() - x_);
   weightedGram(dX, w, P_);
-  if (options_.processVariance.size() != 0) P_.diagonal() += options_.processVariance;
+  if (options_.processVariance.size() != 0 && !noiseFirst)
+    P_.diagonal() += options_.processVariance;
+  const Observation used = ensemble_.predict(y, w, O, Z);
+  const ObservedSubset obs(used, Z.rows());
 
   // Correction (Alg. 1 lines 17-24) with the present entries only.
   if (!obs.empty()) {

@@ -22,6 +22,8 @@ struct UkfOptions : FilterOptions {
   // Diagonal process noise Q (unconstrained variances, one per stochastic state entry) added to the
   // predicted covariance (Alg. 1 line 14); empty = none. The correction does not see it in the
   // predicted observations, as in the thesis: on parameters that is exact for a linear model.
+  // With a parameter-only state (static frames, whose observations depend on the parameters
+  // directly) Q is added before the sigma points are drawn: the Kalman filter's P + Q, F = Id.
   Eigen::VectorXd processVariance;
 };
 

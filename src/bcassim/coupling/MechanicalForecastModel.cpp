@@ -34,7 +34,21 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
       reference_(initial),
       options_(options),
       worker_(worker),
-      shared_(options.shareFactorization || options.meanTangent ? std::move(shared) : nullptr) {
+      shared_(options.shareFactorization || options.meanTangent || options.statics
+                  ? std::move(shared)
+                  : nullptr) {
+  if (options_.statics) {
+    if (options_.layout.positions || options_.layout.velocities || options_.meanTangent)
+      throw std::invalid_argument(
+          "MechanicalForecastModel: static frames estimate parameters only, with their own "
+          "tangents");
+    if (!shared_)
+      throw std::invalid_argument(
+          "MechanicalForecastModel: static frames need a "
+          "SharedFactorization (worker 0 solves the mean)");
+    statics_ = std::make_unique<StaticSolver>(
+        model_, makeLinearSolver(options.solver, options.refresh), *options_.statics);
+  }
   if (options_.meanTangent) {
     if (!shared_)
       throw std::invalid_argument(
@@ -79,6 +93,11 @@ void MechanicalForecastModel::adoptTangent(std::shared_ptr<const FrozenTangent> 
   ++stats_.factorizations;
 }
 
+Eigen::Index MechanicalForecastModel::observableSize() const {
+  return 3 * (options_.observeNodes ? model_.mesh->numNodes()
+                                    : static_cast<Eigen::Index>(observed_.size()));
+}
+
 Eigen::Index MechanicalForecastModel::stateSize() const {
   const Eigen::Index n = 3 * model_.mesh->numNodes();
   return (options_.layout.positions ? n : 0) + (options_.layout.velocities ? n : 0);
@@ -108,14 +127,74 @@ void MechanicalForecastModel::setParameters(const Eigen::VectorXd& params) {
   for (size_t i = 0; i < parameters_.size(); ++i) applyParameter(parameters_[i], params(i), model_);
 }
 
-void MechanicalForecastModel::observe(const MechanicalState& s, Eigen::VectorXd& predicted) const {
-  predicted.resize(observationSize());
+void MechanicalForecastModel::observe(const MechanicalState& s, Eigen::VectorXd& observable) const {
+  if (options_.observeNodes) {
+    observable = s.x;
+    return;
+  }
+  observable.resize(observableSize());
   for (size_t i = 0; i < observed_.size(); ++i)
-    predicted.segment<3>(3 * i) = interpolate(observed_[i], *model_.mesh, s.x);
+    observable.segment<3>(3 * i) = interpolate(observed_[i], *model_.mesh, s.x);
+}
+
+// The equilibrium at time t from s (the reference: its positions warm-start Newton, the loads
+// ramp from those it balances), with the model's parameters as they are now. Worker 0 publishes
+// its factorisation, the others precondition with the one published (thesis Alg. 4/5).
+void MechanicalForecastModel::solveStatic(MechanicalState& s, double t) {
+  auto* reuse = dynamic_cast<FactorizedPcgSolver*>(&statics_->linearSolver());
+  if (reuse && worker_ != 0 && shared_->factor) reuse->shareFactor(shared_->factor);
+  const int factorizationsBefore = reuse ? reuse->factorizations() : 0;
+  statics_->continueFromLoad(referenceLoad_);
+  const auto start = Clock::now();
+  const StaticReport report = statics_->solve(model_, t, s.x);
+  stats_.solveSeconds += secondsSince(start);
+  stats_.linearIterations += report.iterations;
+  stats_.stepRetries += report.retries;
+  if (reuse) {
+    stats_.factorizations += reuse->factorizations() - factorizationsBefore;
+    if (worker_ == 0) {
+      shared_->next = reuse->factor();
+      if (shared_->withinStep) shared_->factor = shared_->next;
+    }
+  }
+  s.v.setZero();
+  s.t = t;
+}
+
+void MechanicalForecastModel::staticForecast(const Eigen::VectorXd& params,
+                                             Eigen::VectorXd& newState,
+                                             Eigen::VectorXd& observable) {
+  work_ = reference_;
+  setParameters(params);
+  ++stats_.forecasts;
+  solveStatic(work_, reference_.t + integrator_.options().dt);
+  newState.resize(0);
+  observe(work_, observable);
+}
+
+// The analysed mean's equilibrium becomes the reference: solved by worker 0, copied by the
+// others (endStep runs in worker order), so that it costs one solve whatever the thread count.
+void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
+  if (worker_ == 0) {
+    shared_->factor = shared_->next;
+    solveStatic(reference_, reference_.t + integrator_.options().dt);
+    model_.externalForces(reference_.t, referenceLoad_);
+    shared_->staticMean = reference_;
+    shared_->staticMeanLoad = referenceLoad_;
+    if (shared_->next) shared_->factor = shared_->next;
+  } else {
+    reference_ = shared_->staticMean;
+    referenceLoad_ = shared_->staticMeanLoad;
+  }
+  meanParams_ = params;
 }
 
 void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
-                                       Eigen::VectorXd& newState, Eigen::VectorXd& predicted) {
+                                       Eigen::VectorXd& newState, Eigen::VectorXd& observable) {
+  if (statics_) {
+    staticForecast(params, newState, observable);
+    return;
+  }
   work_ = reference_;
   unpackState(state, work_);
   setParameters(params);
@@ -127,7 +206,7 @@ void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen
     stats_.solveSeconds += t.solve;
     stats_.stepRetries += t.retries;
     newState = packState(work_);
-    observe(work_, predicted);
+    observe(work_, observable);
     return;
   }
   // Thesis Alg. 4/5: worker 0 refreshes the factorisation when its policy says so; the others
@@ -149,10 +228,15 @@ void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen
     if (shared_->withinStep) shared_->factor = shared_->next;
   }
   newState = packState(work_);
-  observe(work_, predicted);
+  observe(work_, observable);
 }
 
 void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) {
+  if (statics_) {
+    setParameters(params);
+    staticEndStep(params);
+    return;
+  }
   if (shared_ && worker_ == 0) shared_->factor = shared_->next;
   setParameters(params);
   meanParams_ = params;
@@ -214,6 +298,8 @@ void MechanicalForecastModel::restoreReference(const MechanicalState& reference,
   reference_ = reference;
   setParameters(params);
   meanParams_ = params;
+  // A static reference is an equilibrium under the loads of its time with these parameters.
+  if (statics_) model_.externalForces(reference_.t, referenceLoad_);
   if (options_.meanTangent && worker_ == 0) buildMeanTangent();
 }
 

@@ -1,5 +1,6 @@
 // The one place where the FEM meets the filter: implements ForecastModel (simulate one step from a
-// given state and parameters; predict marker positions) over a MechanicalModel and implicit Euler.
+// given state and parameters, or solve one quasi-static frame; expose marker or node positions)
+// over a MechanicalModel and implicit Euler or the static solver.
 #pragma once
 #include <future>
 #include <memory>
@@ -9,6 +10,7 @@
 #include "bcassim/assimilation/ForecastModel.h"
 #include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/mechanics/ImplicitEuler.h"
+#include "bcassim/mechanics/StaticSolver.h"
 #include "bcassim/mechanics/solvers/CholeskyFactor.h"
 #include "bcassim/mechanics/solvers/FactorizedPcgSolver.h"
 #include "bcassim/mesh/BarycentricMap.h"
@@ -34,6 +36,10 @@ struct SharedFactorization {
   // 0 at the analysed mean in endStep().
   std::shared_ptr<const FrozenTangent> tangent;
   int stepsSinceTangent = 0;
+  // Static frames: worker 0's equilibrium at the analysed mean (endStep), which the other workers
+  // copy at theirs (endStep runs in worker order), and the external forces it balances.
+  MechanicalState staticMean;
+  Eigen::VectorXd staticMeanLoad;
 };
 
 // What one worker's forecasts cost since the last takeStats(): CPU seconds in each part.
@@ -64,6 +70,14 @@ struct ForecastModelOptions {
   // tangent in use at the end of that step, so the forecasts step with a tangent 1 to N steps
   // old (N = tangentRefreshEvery), deterministically.
   bool tangentInBackground = false;
+  // Quasi-static frames: every forecast is the equilibrium (StaticSolver, Newton) under the
+  // loads of the next frame's time with the sigma point's parameters, warm-started from the
+  // analysed mean's equilibrium of the frame before; the filter then estimates parameters only
+  // (layout all false). The solver's factorisation is shared as for implicit Euler.
+  std::optional<StaticOptions> statics;
+  // The observable is every node's position (3 x nodes, for an observation operator that needs
+  // the surface: a point cloud) instead of the markers' positions.
+  bool observeNodes = false;
 };
 
 class MechanicalForecastModel final : public ForecastModel {
@@ -77,9 +91,7 @@ class MechanicalForecastModel final : public ForecastModel {
                           int worker, std::shared_ptr<SharedFactorization> shared);
 
   Eigen::Index stateSize() const override;
-  Eigen::Index observationSize() const override {
-    return 3 * static_cast<Eigen::Index>(observed_.size());
-  }
+  Eigen::Index observableSize() const override;
   void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
                 Eigen::VectorXd& newState, Eigen::VectorXd& predicted) override;
   void endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) override;
@@ -91,7 +103,7 @@ class MechanicalForecastModel final : public ForecastModel {
   const MechanicalModel& model() const { return model_; }
   // Predicted positions of any mapped points in the reference state (validation points, tumours).
   Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
-  // Timings of this worker's last forecast (assembly / solve), for benchmarks.
+  // Timings of this worker's last implicit-Euler forecast (assembly / solve), for benchmarks.
   const StepTimings& lastTimings() const { return integrator_.lastTimings(); }
   // Resuming from a checkpoint: the reference state and the analysed (physical) parameters the
   // checkpointed step ended with. Worker 0 rebuilds the mean tangent there, synchronously (an
@@ -103,13 +115,19 @@ class MechanicalForecastModel final : public ForecastModel {
  private:
   void unpackState(const Eigen::VectorXd& state, MechanicalState& s) const;
   void setParameters(const Eigen::VectorXd& params);
-  void observe(const MechanicalState& s, Eigen::VectorXd& predicted) const;
+  void observe(const MechanicalState& s, Eigen::VectorXd& observable) const;
+  void solveStatic(MechanicalState& s, double t);
+  void staticForecast(const Eigen::VectorXd& params, Eigen::VectorXd& newState,
+                      Eigen::VectorXd& observable);
+  void staticEndStep(const Eigen::VectorXd& params);
   void buildMeanTangent();
   void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);
   void refreshMeanTangent();
 
   MechanicalModel model_;
   ImplicitEuler integrator_;
+  std::unique_ptr<StaticSolver> statics_;  // with ForecastModelOptions::statics
+  Eigen::VectorXd referenceLoad_;          // f_ext the reference balances (static; empty: none)
   std::vector<MappedPoint> observed_;
   std::vector<ModelParameterTarget> parameters_;
   MechanicalState reference_, work_;

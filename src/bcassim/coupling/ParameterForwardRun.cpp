@@ -11,14 +11,27 @@ ParameterForwardRun::ParameterForwardRun(const Scene& scene,
   for (size_t i = 0; i < parameters.size(); ++i)
     applyParameter(parameters[i].target, values(static_cast<Eigen::Index>(i)), model_);
   state_ = model_.restState();
-  integrator_ = std::make_unique<ImplicitEuler>(
-      model_, makeLinearSolver(scene.solver.type, scene.solver.policy), scene.implicitEuler);
+  if (scene.integrator == IntegratorKind::Static)
+    statics_ = std::make_unique<StaticSolver>(
+        model_, makeLinearSolver(scene.solver.type, scene.solver.policy), scene.statics);
+  else
+    integrator_ = std::make_unique<ImplicitEuler>(
+        model_, makeLinearSolver(scene.solver.type, scene.solver.policy), scene.implicitEuler);
 }
 
 void ParameterForwardRun::step() {
-  integrator_->step(model_, state_);
+  if (statics_)
+    statics_->solve(model_, (steps_ + 1) * dt_, state_.x);
+  else
+    integrator_->step(model_, state_);
   ++steps_;
   state_.t = steps_ * dt_;  // as the simulate runner: no drift from summing dt
+}
+
+void ParameterForwardRun::restore(const MechanicalState& state, int steps) {
+  state_ = state;
+  steps_ = steps;
+  if (statics_) statics_->continueFrom(model_, state_.t);
 }
 
 Eigen::MatrixX3d ParameterForwardRun::positionsOf(const std::vector<MappedPoint>& points) const {

@@ -14,7 +14,8 @@ class ParameterForwardRun {
   ParameterForwardRun(const Scene& scene, const std::vector<EstimatedParameter>& parameters,
                       const Eigen::VectorXd& values);
 
-  // One implicit-Euler step; throws NumericalError if it diverges.
+  // One implicit-Euler step, or with a static scene the equilibrium of the next step's time;
+  // throws NumericalError if it diverges.
   void step();
   // Positions of mapped points in the current state, m.
   Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
@@ -22,15 +23,13 @@ class ParameterForwardRun {
   // For checkpoints: the state after steps() steps, and continuing from one.
   const MechanicalState& state() const { return state_; }
   int steps() const { return steps_; }
-  void restore(const MechanicalState& state, int steps) {
-    state_ = state;
-    steps_ = steps;
-  }
+  void restore(const MechanicalState& state, int steps);
 
  private:
   MechanicalModel model_;
   MechanicalState state_;
   std::unique_ptr<ImplicitEuler> integrator_;
+  std::unique_ptr<StaticSolver> statics_;  // static scenes
   double dt_;
   int steps_ = 0;
 };

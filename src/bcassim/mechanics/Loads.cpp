@@ -1,10 +1,32 @@
 #include "bcassim/mechanics/Loads.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "bcassim/Error.h"
 
 namespace bcassim {
+
+Vec3 NodalLoad::perNodeAt(double t) const {
+  const double scale = profile.value(t);
+  if (frames.empty()) return scale * forcePerNode;
+  const double s = t / frameDt;  // frame k sits at s = k + 1
+  if (s <= 0) return Vec3::Zero();
+  if (s <= 1) return scale * s * frames.front();
+  const auto last = static_cast<double>(frames.size());
+  if (s >= last) return scale * frames.back();
+  const auto k = static_cast<size_t>(std::floor(s));  // between frames k - 1 and k
+  const double w = s - static_cast<double>(k);
+  return scale * ((1 - w) * frames[k - 1] + w * frames[k]);
+}
+
+Vec3 NodalLoad::totalForce() const {
+  return weights.empty() ? forcePerNode * static_cast<double>(nodes.size()) : forcePerNode;
+}
+
+void NodalLoad::setTotalForce(int c, double newtons) {
+  forcePerNode(c) = weights.empty() ? newtons / static_cast<double>(nodes.size()) : newtons;
+}
 
 ControlPointSet::ControlPointSet(std::vector<MappedPoint> points, Eigen::MatrixX3d restPositions,
                                  std::vector<double> times, Eigen::MatrixX3d displacements,

@@ -13,14 +13,27 @@ namespace bcassim {
 
 // force(t) = forcePerNode * profile(t) on every node of `nodes` (N per node); with `weights`
 // (one per node; a surface traction's shares, summing to 1) node k gets weights[k] times that.
+// With `frames` (a force given frame by frame, e.g. measured) forcePerNode(t) is read from them
+// instead: frames[k] at t = (k + 1) frameDt, linear in between, from zero at t = 0, the last
+// held after it.
 struct NodalLoad {
   std::vector<int> nodes;
   Vec3 forcePerNode = Vec3::Zero();
   TimeProfile profile;
   std::vector<double> weights;  // empty: 1 for every node
+  std::vector<Vec3> frames;     // N per node (times the weights); empty: forcePerNode
+  double frameDt = 0.0;         // s, > 0 with frames
+
+  // The force per node at time t before the weights, N.
+  Vec3 perNodeAt(double t) const;
+  // The load's total force as forcePerNode stands (N): forcePerNode times the number of nodes,
+  // or forcePerNode itself when the weights share it.
+  Vec3 totalForce() const;
+  // Sets component c (0, 1, 2 = x, y, z) of totalForce() to `newtons`.
+  void setTotalForce(int c, double newtons);
 
   void addTo(double t, Eigen::VectorXd& f) const {
-    const Vec3 force = profile.value(t) * forcePerNode;
+    const Vec3 force = perNodeAt(t);
     if (weights.empty()) {
       for (int n : nodes) f.segment<3>(3 * n) += force;
       return;

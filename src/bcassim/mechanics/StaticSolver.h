@@ -41,6 +41,11 @@ class StaticSolver {
   StaticReport solve(const MechanicalModel& model, double t, Eigen::VectorXd& x);
   // The next solve starts from an equilibrium under the loads at time t (a resumed run).
   void continueFrom(const MechanicalModel& model, double t);
+  // The next solve starts from an equilibrium under the external forces `load` (N, 3N; empty:
+  // none, the rest state), e.g. a filter's forecasts that all start from the analysed mean.
+  void continueFromLoad(Eigen::VectorXd load) { equilibriumLoad_ = std::move(load); }
+  // The solver of the Newton systems (to share a factorisation between workers).
+  LinearSolver& linearSolver() { return *solver_; }
 
  private:
   struct Increments;

@@ -24,13 +24,16 @@
 #include "bcassim/coupling/InnovationModelError.h"
 #include "bcassim/coupling/MechanicalForecastModel.h"
 #include "bcassim/coupling/ParameterForwardRun.h"
+#include "bcassim/coupling/PointCloudObservation.h"
 #include "bcassim/io/CsvTruncate.h"
 #include "bcassim/mechanics/StepFailure.h"
+#include "bcassim/mesh/BoundarySurface.h"
 #include "bcassim/run/AssimilationCheckpoint.h"
 #include "bcassim/run/AssimilationEstimates.h"
 #include "bcassim/run/HiddenPointLog.h"
 #include "bcassim/run/OutputFiles.h"
 #include "bcassim/run/ValidationLog.h"
+#include "bcassim/tracking/PointCloudUnits.h"
 
 namespace bcassim {
 
@@ -43,11 +46,13 @@ namespace fs = std::filesystem;
 const AssimilationSettings& settingsOf(const Scene& scene) {
   if (!scene.assimilation)
     throw InputError(scene.sourceFile + ": the scene has no assimilation: section");
-  if (scene.integrator != IntegratorKind::ImplicitEuler)
-    throw InputError(scene.sourceFile +
-                     ": integrator.type: assimilation needs implicit-euler (the filter steps in "
-                     "time)");
   const AssimilationSettings& s = *scene.assimilation;
+  if (scene.integrator == IntegratorKind::Static &&
+      (s.carryPositions || s.carryVelocities || s.meanTangent))
+    throw InputError(scene.sourceFile +
+                     ": integrator.type static: every frame is an equilibrium of the parameters, "
+                     "so the assimilation estimates parameters only (assimilation.state positions "
+                     "and velocities false, tangent own)");
   if (s.meanTangent && !s.reuseFactorization)
     throw InputError(scene.sourceFile +
                      ": assimilation.reuse_factorization: false does not go with tangent: mean "
@@ -147,17 +152,45 @@ Observation observationAt(const ObservationSettings& o, int step, std::mt19937_6
   return y;
 }
 
-std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const StochasticState& layout,
-                                   const std::vector<ForecastModel*>& models, Executor& executor) {
-  Eigen::VectorXd process;
-  if (s.inflation > 0) {
-    process = Eigen::VectorXd::Zero(layout.size());
-    process.tail(layout.parameterCount()).setConstant(s.inflation * s.inflation);
+// The cloud of `step` as the filter sees it: x, y, z of every point with seeded noise added.
+Observation cloudObservationAt(const ObservationSettings& o, const std::vector<bool>& usable,
+                               int step, std::mt19937_64& rng) {
+  if (step > o.untilStep || !usable[static_cast<size_t>(step)]) return Observation::none();
+  const Eigen::MatrixX3d& frame = o.pointCloud->frames[static_cast<size_t>(step)];
+  Observation y;
+  y.values.resize(3 * frame.rows());
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (Eigen::Index i = 0; i < frame.rows(); ++i)
+    for (int c = 0; c < 3; ++c) y.values(3 * i + c) = frame(i, c) + o.noiseStddev * noise(rng);
+  y.variance = Eigen::VectorXd::Constant(y.values.size(), o.sigma * o.sigma);
+  return y;
+}
+
+// Process noise per step in the filter's space: the inflation on every parameter plus each
+// parameter's random walk (its physical standard deviation per step taken to the unconstrained
+// space at its initial mean; the identity for forces). Empty when there is none.
+Eigen::VectorXd processVariance(const AssimilationSettings& s, const StochasticState& layout) {
+  Eigen::VectorXd process = Eigen::VectorXd::Zero(layout.size());
+  const Eigen::Index m = layout.physicalSize();
+  for (size_t i = 0; i < s.parameters.size(); ++i) {
+    const EstimatedParameter& p = s.parameters[i];
+    const double walk = p.randomWalkPerStep > 0
+                            ? p.transform.stddevToUnconstrained(p.mean, p.randomWalkPerStep)
+                            : 0.0;
+    process(m + static_cast<Eigen::Index>(i)) = s.inflation * s.inflation + walk * walk;
   }
+  return process.isZero(0.0) ? Eigen::VectorXd() : process;
+}
+
+std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const StochasticState& layout,
+                                   const std::vector<ForecastModel*>& models, Executor& executor,
+                                   ObservationOperator* observation) {
+  const Eigen::VectorXd process = processVariance(s, layout);
   switch (s.filter) {
     case FilterKind::Ukf: {
       UkfOptions o;
       o.firstSigmaPointAlone = false;
+      o.observation = observation;
       o.sigmaPoints = s.sigmaPoints;
       o.spread = s.sigmaSpread;
       o.processVariance = process;
@@ -166,12 +199,15 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
     case FilterKind::Roukf: {
       RoukfOptions o;
       o.firstSigmaPointAlone = false;
+      o.observation = observation;
       o.sigmaPoints = s.sigmaPoints;
+      o.processVariance = process;
       return std::make_unique<RoukfFilter>(layout, models, executor, o);
     }
     case FilterKind::Etkf: {
       EtkfOptions o;
       o.firstSigmaPointAlone = false;
+      o.observation = observation;
       o.members = s.members;
       o.seed = s.seed;
       o.processVariance = process;
@@ -190,7 +226,10 @@ struct AssimilationSetup {
   std::vector<std::unique_ptr<MechanicalForecastModel>> models;
   std::unique_ptr<StochasticState> layout;
   std::unique_ptr<Executor> executor;
+  std::unique_ptr<PointCloudObservation> cloud;  // with a point cloud (markers: direct)
+  std::vector<bool> cloudUsable;                 // per step: a frame the run can use
   std::unique_ptr<Filter> filter;
+  std::vector<std::string> notices;  // the scene's, then the set-up's
 };
 
 // The forecast models solve with the scene's solver; with reuse_factorization (factorized-pcg,
@@ -205,7 +244,32 @@ ForecastModelOptions forecastOptions(const Scene& scene) {
   options.meanTangent = s.meanTangent;
   options.tangentRefreshEvery = s.tangentRefreshEvery;
   options.tangentInBackground = s.tangentInBackground;
+  if (scene.integrator == IntegratorKind::Static) options.statics = scene.statics;
+  options.observeNodes = s.observations.pointCloud.has_value();
   return options;
+}
+
+// The point cloud's operator over the observed surface (the mesh's boundary by default), and
+// which frames it can use: a frame whose size says millimetres for a mesh in metres (or the
+// other way round) is left out with a notice.
+void setUpPointCloud(const Scene& scene, AssimilationSetup& setup) {
+  const PointCloudSettings& pc = *scene.assimilation->observations.pointCloud;
+  const TetMesh& mesh = *scene.model.mesh;
+  const Eigen::MatrixX3i surface = pc.surface.rows() > 0 ? pc.surface : extractBoundary(mesh).F;
+  setup.cloud = std::make_unique<PointCloudObservation>(surface, mesh.numNodes(), pc);
+  TriMesh rest;
+  rest.V = setup.cloud->surfacePositions(scene.model.restPositions());
+  setup.cloudUsable = pc.present;
+  for (size_t k = 0; k < pc.frames.size(); ++k) {
+    if (!pc.present[k]) continue;
+    try {
+      requireMatchingUnits(pc.frames[k], rest);
+    } catch (const InputError& e) {
+      setup.notices.push_back(
+          fmt::format("{}: {}; step {} is a prediction only", pc.frameNames[k], e.what(), k));
+      setup.cloudUsable[k] = false;
+    }
+  }
 }
 
 AssimilationSetup setUp(const Scene& scene) {
@@ -220,6 +284,8 @@ AssimilationSetup setUp(const Scene& scene) {
   const auto shared = std::make_shared<SharedFactorization>();
   const MechanicalState rest = scene.model.restState();
   AssimilationSetup setup;
+  setup.notices = s.notices;
+  if (s.observations.pointCloud) setUpPointCloud(scene, setup);
   std::vector<ForecastModel*> workers;
   for (int w = 0; w < s.threads; ++w) {
     setup.models.push_back(std::make_unique<MechanicalForecastModel>(
@@ -235,7 +301,7 @@ AssimilationSetup setUp(const Scene& scene) {
     setup.executor = std::make_unique<ThreadPoolExecutor>(s.threads);
   else
     setup.executor = std::make_unique<SerialExecutor>();
-  setup.filter = makeFilter(s, *setup.layout, workers, *setup.executor);
+  setup.filter = makeFilter(s, *setup.layout, workers, *setup.executor, setup.cloud.get());
   return setup;
 }
 
@@ -260,6 +326,8 @@ struct AssimilationFiles {
   std::unique_ptr<ValidationLog> validation;  // with assimilation.validation tracks
   std::unique_ptr<HiddenPointLog> hidden;     // with hidden_points
   std::string checkpointPath, checkpointKey;
+  fs::path noticesPath;
+  std::ofstream notices;  // notices.txt: bad input the run went around, one line each
 };
 
 // Opens every per-step file: new with its header, or, resuming from the checkpoint's step,
@@ -280,9 +348,13 @@ AssimilationFiles openFiles(const Scene& scene, const AssimilationSetup& setup, 
                                : std::make_unique<EstimatesWriter>(estimates, names);
   files.filterPath = dir / "filter.csv";
   files.timingPath = dir / "timing.csv";
-  files.filter =
-      openStepCsv(files.filterPath.string(),
-                  "step,time_s,observed_entries,innovation_norm_m,covariance_repairs", cutAt);
+  // The cloud columns only with a point cloud: marker runs keep their five columns.
+  files.filter = openStepCsv(
+      files.filterPath.string(),
+      std::string("step,time_s,observed_entries,innovation_norm_m,covariance_repairs") +
+          (setup.cloud ? ",cloud_points,cloud_points_used,cloud_median_distance_m,cloud_cutoff_m"
+                       : ""),
+      cutAt);
   files.timing =
       openStepCsv(files.timingPath.string(),
                   "step,time_s,forecast_ms,correction_ms,total_ms,validation_ms,assembly_cpu_ms,"
@@ -292,6 +364,13 @@ AssimilationFiles openFiles(const Scene& scene, const AssimilationSetup& setup, 
   if (s.validationTruth) files.validation = std::make_unique<ValidationLog>(scene, dir, cutAt);
   if (!scene.hidden.points.empty())
     files.hidden = std::make_unique<HiddenPointLog>(scene, dir, cutAt);
+  // A resumed run keeps the notices written so far (those of the set-up among them).
+  files.noticesPath = dir / "notices.txt";
+  files.notices = resumeStep ? std::ofstream(files.noticesPath, std::ios::app)
+                             : openForWriting(files.noticesPath);
+  if (!resumeStep)
+    for (const std::string& line : setup.notices) files.notices << line << '\n';
+  flushOrThrow(files.notices, files.noticesPath);
   return files;
 }
 
@@ -322,6 +401,7 @@ FilterLoopState newLoopState(const Scene& scene, const fs::path& dir) {
 FilterLoopState startFromPrior(const Scene& scene, const AssimilationSetup& setup,
                                AssimilationFiles& files) {
   FilterLoopState loop = newLoopState(scene, files.dir);
+  loop.result.notices = setup.notices;
   const StochasticState& layout = *setup.layout;
   Eigen::VectorXd mean, sd;
   layout.toReported(layout.initialMean(), layout.initialStddev(), mean, sd);
@@ -336,6 +416,7 @@ FilterLoopState startFromPrior(const Scene& scene, const AssimilationSetup& setu
 FilterLoopState resumeFromCheckpoint(const Scene& scene, AssimilationSetup& setup,
                                      AssimilationFiles& files, const AssimilationCheckpoint& c) {
   FilterLoopState loop = newLoopState(scene, files.dir);
+  loop.result.notices = setup.notices;
   try {
     setup.filter->restoreState(c.filter);
   } catch (const std::invalid_argument&) {
@@ -396,7 +477,9 @@ FilterStepReport filterStep(int step, const Scene& scene, AssimilationSetup& set
                             AssimilationFiles& files, FilterLoopState& loop) {
   const AssimilationSettings& s = *scene.assimilation;
   const double time = step * scene.dt();
-  const Observation y = observationAt(s.observations, step, loop.rng);
+  const Observation y = setup.cloud
+                            ? cloudObservationAt(s.observations, setup.cloudUsable, step, loop.rng)
+                            : observationAt(s.observations, step, loop.rng);
   FilterStepReport report;
   try {
     report = setup.filter->step(y);
@@ -420,8 +503,27 @@ FilterStepReport filterStep(int step, const Scene& scene, AssimilationSetup& set
     loop.result.parameters[static_cast<size_t>(i)].stddev = sd(i);
   }
   if (report.observed > 0) ++loop.result.observedSteps;
-  files.filter << fmt::format("{},{:.9g},{},{:.6g},{}\n", step, time, report.observed,
+  PointCloudStepStats cloud;
+  if (setup.cloud && y.values.size() > 0) {
+    cloud = setup.cloud->lastStats();
+    if (cloud.used == 0) {
+      const PointCloudSettings& pc = *s.observations.pointCloud;
+      const std::string line = fmt::format(
+          "{}: step {} (t = {:.6g} s): fewer than point_cloud.min_points ({}) of its {} points "
+          "within {:.3g} mm of the model's surface; a prediction only",
+          pc.frameNames[static_cast<size_t>(step)], step, time, pc.minPoints, cloud.points,
+          1e3 * cloud.cutoff);
+      files.notices << line << '\n';
+      flushOrThrow(files.notices, files.noticesPath);
+      loop.result.notices.push_back(line);
+    }
+  }
+  files.filter << fmt::format("{},{:.9g},{},{:.6g},{}", step, time, report.observed,
                               report.innovationNorm, report.covarianceRepairs);
+  if (setup.cloud)
+    files.filter << fmt::format(",{},{},{:.6g},{:.6g}", cloud.points, cloud.used,
+                                cloud.medianDistance, cloud.cutoff);
+  files.filter << '\n';
   flushOrThrow(files.filter, files.filterPath);
 
   const Clock::time_point v0 = Clock::now();

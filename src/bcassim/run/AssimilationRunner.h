@@ -52,12 +52,18 @@ struct AssimilationResult {
   double medianStepMs = 0.0, meanStepMs = 0.0;
   double wallSeconds = 0.0;
   int tangentFailures = 0;  // tangent: mean — mean tangents not positive definite (old one kept)
+  // Bad input the run went around (frames left out, points dropped), one line each, as written
+  // to notices.txt: for the caller to show.
+  std::vector<std::string> notices;
 };
 
 // Assimilates scene.assimilation (which must be set) over scene.steps steps, writing to outDir:
 //   parameters.csv  parameter,initial_mean,initial_stddev,truth,final_mean,final_stddev
 //   estimates.csv   step,time_s,parameter,mean,stddev (step 0 = prior)
-//   filter.csv      step,time_s,observed_entries,innovation_norm_m,covariance_repairs
+//   filter.csv      step,time_s,observed_entries,innovation_norm_m,covariance_repairs, and
+//                   with a point cloud cloud_points,cloud_points_used,cloud_median_distance_m,
+//                   cloud_cutoff_m
+//   notices.txt     bad input the run went around, one line each (AssimilationResult::notices)
 //   timing.csv      step,time_s,forecast_ms,correction_ms,total_ms,validation_ms
 //   errors.csv, errors_summary.csv  with validation tracks (docs/assimilation-format.md)
 // Per-step files are flushed every step. Throws InputError (files), NumericalError (divergence).

@@ -23,6 +23,9 @@ struct EstimatedParameter {
   double stddev = 0.0;  // initial physical standard deviation, same unit
   ParameterTransform transform;
   std::optional<double> truth;  // known true value, for reports and plots only
+  // Random walk: standard deviation of the change per step, physical unit (random_walk x
+  // sqrt(dt), or random_walk_per_step); 0 = a constant parameter.
+  double randomWalkPerStep = 0.0;
 };
 
 // Positions on the scene's time grid: frame k holds the positions at time timeOffset + k dt,
@@ -33,8 +36,33 @@ struct TrackFrames {
   std::vector<bool> present;             // frame k was in the file
 };
 
+// How a cloud point's distance to the model's surface is measured (observed).
+enum class CloudResidual {
+  Normal,  // along the surface normal at its closest point: one entry per point (point-to-plane)
+  Point,   // the closest point itself, three entries per point (point-to-point)
+};
+
+// A partial surface seen as unlabelled points, frame by frame (observations.point_cloud): each
+// point observes its closest point on the model's surface, found again every step at the forecast
+// mean; points farther than max(distanceFactor x median distance, minCutoff) are dropped for
+// that step.
+struct PointCloudSettings {
+  std::string source;                    // folder, pattern or CSV as resolved, for messages
+  std::vector<Eigen::MatrixX3d> frames;  // index k = 0 .. steps: the points of step k, m
+  std::vector<bool> present;             // step k has a frame
+  std::vector<std::string> frameNames;   // "pc07.txt", "cloud.csv frame 7": for notices
+  // Observed part of the surface: triangles by node ids (counter-clockwise from outside not
+  // needed); empty = the whole boundary surface of the mesh.
+  Eigen::MatrixX3i surface;
+  CloudResidual residual = CloudResidual::Normal;
+  double distanceFactor = 3.0;  // -, k of the robust threshold
+  double minCutoff = 0.005;     // m, the threshold's floor
+  int minPoints = 10;           // a frame with fewer usable points is not used (prediction only)
+};
+
 struct ObservationSettings {
-  TrackFrames tracks;        // observed marker positions, m
+  TrackFrames tracks;  // observed marker positions, m (empty with a point cloud)
+  std::optional<PointCloudSettings> pointCloud;  // instead of marker tracks
   double noiseStddev = 0.0;  // m, seeded Gaussian noise added to every observed coordinate
   double sigma = 1e-4;       // m, observation noise standard deviation the filter assumes (R)
   int untilStep = 0;         // observations are used in steps 1 .. untilStep, then free run
@@ -60,6 +88,9 @@ struct AssimilationSettings {
   std::vector<EstimatedParameter> parameters;
   ObservationSettings observations;
   std::optional<TrackFrames> validationTruth;  // truth positions of the validation points, m
+  // Bad input the run goes around (an empty frame, points that are not finite, frames out of
+  // order), one line each naming the file and what was done; the runner adds its own per step.
+  std::vector<std::string> notices;
 };
 
 }  // namespace bcassim

@@ -3,11 +3,15 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <set>
 
 #include "bcassim/Error.h"
+#include "bcassim/io/IndexListReader.h"
+#include "bcassim/io/NpyReader.h"
 #include "bcassim/mechanics/FrozenTangent.h"
+#include "bcassim/scene/PointCloudFrames.h"
 #include "bcassim/scene/SceneBuilders.h"
 
 namespace bcassim {
@@ -109,15 +113,34 @@ SpringCoefficientTarget readSpringTarget(const MapReader& r, const MechanicalMod
 }
 
 EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
-                                 const std::string& path, const MechanicalModel& model) {
+                                 const std::string& path, const MechanicalModel& model, double dt) {
   MapReader r(src, node, path,
-              {"name", "young_modulus", "spring", "mean", "stddev", "transform", "lower", "upper",
-               "truth"});
-  if (r.has("young_modulus") == r.has("spring"))
-    failAt(src, node, path, "expected exactly one of young_modulus, spring (what it sets)");
+              {"name", "young_modulus", "spring", "force", "mean", "stddev", "transform", "lower",
+               "upper", "truth", "random_walk", "random_walk_per_step"});
+  const int targets =
+      (r.has("young_modulus") ? 1 : 0) + (r.has("spring") ? 1 : 0) + (r.has("force") ? 1 : 0);
+  if (targets != 1)
+    failAt(src, node, path, "expected exactly one of young_modulus, spring, force (what it sets)");
   EstimatedParameter p;
   std::string unit;
-  if (r.has("young_modulus")) {
+  if (r.has("force")) {
+    MapReader t(src, r.node("force"), r.pathOf("force"), {"load", "component"});
+    LoadForceTarget target;
+    target.load = t.integer("load", 0);
+    const int loads = static_cast<int>(model.loads.size());
+    if (target.load >= loads)
+      t.fail("load", loads == 0
+                         ? std::string("the scene has no loads (the zone the force acts on)")
+                         : fmt::format("expected a load in [0, {}), got {}", loads, target.load));
+    if (!model.loads[static_cast<size_t>(target.load)].frames.empty())
+      t.fail("load", fmt::format("loads[{}] is given frame by frame (total_force_frames); an "
+                                 "estimated force needs a constant one",
+                                 target.load));
+    if (!t.has("component")) failAt(src, t.self(), t.pathOf("component"), "missing (x, y or z)");
+    target.component = t.choice("component", "x", {"x", "y", "z"})[0] - 'x';
+    p.target = target;
+    unit = "N";
+  } else if (r.has("young_modulus")) {
     MapReader t(src, r.node("young_modulus"), r.pathOf("young_modulus"),
                 {"region", "model", "poisson_ratio"});
     p.target = readYoungTarget(src, t, model);
@@ -162,6 +185,13 @@ EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
     r.fail("mean", fmt::format("{:.6g} is outside the range of transform {}", p.mean, kind));
   }
   if (r.has("truth")) p.truth = r.number("truth", 0.0, unit);
+  if (r.has("random_walk") && r.has("random_walk_per_step"))
+    r.fail("random_walk_per_step", "expected either random_walk or random_walk_per_step, not both");
+  // A random walk of standard deviation w per sqrt(s) moves a parameter by w sqrt(dt) per step.
+  p.randomWalkPerStep =
+      r.has("random_walk_per_step")
+          ? r.number("random_walk_per_step", 0.0, unit, Range::NonNegative)
+          : r.number("random_walk", 0.0, unit + "/s^0.5", Range::NonNegative) * std::sqrt(dt);
   return p;
 }
 
@@ -173,6 +203,133 @@ TrackFrames readFrames(const YamlSource& src, const MapReader& r, const std::str
   withContext(src, r.node(key), r.pathOf(key),
               [&] { frames = readStepFrames(file, numPoints, pointsName, c.dt, c.steps, offset); });
   return frames;
+}
+
+// Triangles (node ids, one row each) from .npy ((F, 3) integers) or a .txt/.csv id list read
+// three at a time.
+Eigen::MatrixX3i readTriangles(const std::string& path, Eigen::Index nodes) {
+  std::vector<std::int64_t> ids;
+  if (std::filesystem::path(path).extension() == ".npy") {
+    const NpyArray a = readNpy(path);
+    if (a.shape.size() != 2 || a.shape[1] != 3 || a.shape[0] < 1)
+      throw InputError(fmt::format("{}: array of shape {}; expected (F, 3) node ids", path,
+                                   formatNpyShape(a.shape)));
+    for (double v : a.values) {
+      if (v != std::floor(v))
+        throw InputError(fmt::format("{}: {} is not a node id (an integer)", path, v));
+      ids.push_back(static_cast<std::int64_t>(v));
+    }
+  } else {
+    for (int id : readIndexList(path)) ids.push_back(id);
+    if (ids.size() % 3 != 0)
+      throw InputError(fmt::format("{}: {} ids; expected 3 per triangle", path, ids.size()));
+  }
+  Eigen::MatrixX3i F(static_cast<Eigen::Index>(ids.size() / 3), 3);
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] < 0 || ids[i] >= nodes)
+      throw InputError(fmt::format("{}: triangle {} names node {}; the mesh has {} nodes", path,
+                                   i / 3, ids[i], nodes));
+    F(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) =
+        static_cast<int>(ids[i]);
+  }
+  return F;
+}
+
+// observations.point_cloud: the frames on the scene's steps, the observed surface and the
+// robust threshold. Frames a step cannot use become notices, not errors.
+PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
+                                  const AssimilationContext& c, double timeOffset,
+                                  std::vector<std::string>& notices) {
+  MapReader r(src, obs.node("point_cloud"), obs.pathOf("point_cloud"),
+              {"files", "csv", "first_step", "surface", "residual", "distance_factor",
+               "min_distance", "min_points"});
+  if (r.has("files") == r.has("csv"))
+    failAt(src, r.self(), r.pathOf("files"),
+           r.has("files") ? "expected either files or csv, not both"
+                          : "missing (a folder or pattern of frame files, or a csv)");
+  PointCloudSettings pc;
+  pc.residual = r.choice("residual", "normal", {"normal", "point"}) == "normal"
+                    ? CloudResidual::Normal
+                    : CloudResidual::Point;
+  pc.distanceFactor = r.number("distance_factor", pc.distanceFactor, "-", Range::Positive);
+  pc.minCutoff = r.number("min_distance", pc.minCutoff, "m", Range::NonNegative);
+  pc.minPoints = r.integer("min_points", pc.minPoints, Range::AtLeastOne);
+  const int firstStep = r.integer("first_step", 1);
+  const auto steps = static_cast<size_t>(c.steps);
+  pc.frames.assign(steps + 1, Eigen::MatrixX3d());
+  pc.present.assign(steps + 1, false);
+  pc.frameNames.assign(steps + 1, "");
+  // Frames beyond the horizon are ignored, as track frames are; a second one for a step too.
+  auto place = [&](long step, CloudFrame frame) {
+    if (step < 1 || step > c.steps) return;
+    const auto k = static_cast<size_t>(step);
+    if (pc.present[k]) {
+      notices.push_back(fmt::format("{}: a second frame for step {} (after {}); ignored",
+                                    frame.name, step, pc.frameNames[k]));
+      return;
+    }
+    pc.frames[k] = std::move(frame.points);
+    pc.frameNames[k] = std::move(frame.name);
+    pc.present[k] = true;
+  };
+  if (r.has("files")) {
+    pc.source = resolvePath(src.directory, r.text("files", ""));
+    std::vector<std::string> files;
+    withContext(src, r.node("files"), r.pathOf("files"),
+                [&] { files = cloudFrameFiles(pc.source); });
+    for (size_t i = 0; i < files.size(); ++i) {
+      CloudFrame frame;
+      withContext(src, r.node("files"), r.pathOf("files"),
+                  [&] { frame.points = readCloudFile(files[i], notices); });
+      frame.name = std::filesystem::path(files[i]).filename().string();
+      place(firstStep + static_cast<long>(i), std::move(frame));
+    }
+  } else {
+    pc.source = r.existingFile("csv");
+    bool byTime = false;
+    std::vector<CloudFrame> frames;
+    withContext(src, r.node("csv"), r.pathOf("csv"),
+                [&] { frames = readCloudCsv(pc.source, byTime, notices); });
+    if (byTime) r.rejectUnless(false, "first_step", "frames numbered by a frame column");
+    for (CloudFrame& frame : frames) {
+      long step = firstStep + static_cast<long>(frame.key);
+      if (byTime) {
+        // As for tracks: times are on the scene's grid up to rounding noise.
+        const double at = (frame.key - timeOffset) / c.dt;
+        step = std::lround(at);
+        if (std::abs(at - static_cast<double>(step)) > 1e-3)
+          r.fail("csv", fmt::format("{} is not on the scene's time grid {:.9g} s + k x {:.9g} s "
+                                    "(time.dt)",
+                                    frame.name, timeOffset, c.dt));
+      }
+      place(step, std::move(frame));
+    }
+  }
+  int usable = 0;
+  for (size_t k = 1; k <= steps; ++k) {
+    if (!pc.present[k]) continue;
+    const Eigen::Index n = pc.frames[k].rows();
+    if (n < pc.minPoints) {
+      notices.push_back(
+          n == 0 ? fmt::format("{}: no point; step {} is a prediction only", pc.frameNames[k], k)
+                 : fmt::format("{}: {} point{}, fewer than point_cloud.min_points ({}); step {} is "
+                               "a prediction only",
+                               pc.frameNames[k], n, n == 1 ? "" : "s", pc.minPoints, k));
+      pc.present[k] = false;
+      continue;
+    }
+    ++usable;
+  }
+  if (usable == 0)
+    failAt(src, r.self(), obs.pathOf("point_cloud"),
+           fmt::format("no frame with at least min_points ({}) points within time.steps ({})",
+                       pc.minPoints, c.steps));
+  if (r.has("surface")) {
+    const std::string file = r.existingFile("surface");
+    withContext(src, r.node("surface"), r.pathOf("surface"),
+                [&] { pc.surface = readTriangles(file, c.model.mesh->numNodes()); });
+  }
+  return pc;
 }
 
 }  // namespace
@@ -193,6 +350,7 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
                                  : FilterKind::Etkf;
   r.rejectUnless(s.filter != FilterKind::Etkf, "sigma_points", "filters ukf and roukf");
   r.rejectUnless(s.filter == FilterKind::Etkf, "members", "filter etkf");
+  // A parameter's random walk is the way to process noise with roukf (in its reduced space).
   r.rejectUnless(s.filter != FilterKind::Roukf, "inflation",
                  "filters ukf and etkf (roukf keeps its rank)");
   const std::string sigma =
@@ -209,10 +367,18 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.seed = static_cast<std::uint64_t>(r.integer("seed", 1));
   s.threads = r.integer("threads", 1, Range::AtLeastOne);
   MapReader state(src, r.node("state"), r.pathOf("state"), {"positions", "velocities"});
-  s.carryPositions = state.boolean("positions", true);
-  s.carryVelocities = state.boolean("velocities", true);
+  // A static frame is a function of the parameters alone: nothing mechanical to carry.
+  s.carryPositions = state.boolean("positions", !c.statics);
+  s.carryVelocities = state.boolean("velocities", !c.statics);
+  for (const char* key : {"positions", "velocities"})
+    if (c.statics && state.boolean(key, false))
+      state.fail(key,
+                 "true does not go with integrator.type static (every frame is an "
+                 "equilibrium of the parameters: the filter estimates parameters only)");
   s.reuseFactorization = r.boolean("reuse_factorization", true);
   s.meanTangent = r.choice("tangent", "own", {"own", "mean"}) == "mean";
+  if (s.meanTangent && c.statics)
+    r.fail("tangent", "mean is an implicit-Euler step; with integrator.type static use own");
   if (s.meanTangent &&
       c.model.springs.springs().size() > static_cast<size_t>(FrozenTangent::kMaxCorrectedSprings))
     r.fail("tangent",
@@ -241,26 +407,33 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   std::set<std::string> names;
   for (size_t i = 0; i < entries.size(); ++i) {
     const std::string path = indexed(r.pathOf("parameters"), i);
-    s.parameters.push_back(readParameter(src, entries[i], path, c.model));
+    s.parameters.push_back(readParameter(src, entries[i], path, c.model, c.dt));
     if (!names.insert(s.parameters.back().name).second)
       failAt(src, entries[i], path + ".name",
              "name '" + s.parameters.back().name + "' is used twice");
   }
 
   if (!r.has("observations"))
-    failAt(src, node, r.pathOf("observations"), "missing (tracks of the observed markers)");
+    failAt(src, node, r.pathOf("observations"),
+           "missing (tracks of the observed markers, or a point_cloud)");
   MapReader obs(src, r.node("observations"), r.pathOf("observations"),
-                {"tracks", "noise_stddev", "sigma", "until_step", "time_offset"});
-  if (!obs.has("tracks"))
-    failAt(src, obs.self(), obs.pathOf("tracks"), "missing (CSV time,marker,x,y,z in s and m)");
-  if (c.markers == 0)
-    obs.fail("tracks", "the scene has no markers; add a markers: section (the observed points)");
+                {"tracks", "point_cloud", "noise_stddev", "sigma", "until_step", "time_offset"});
+  if (obs.has("tracks") == obs.has("point_cloud"))
+    failAt(src, obs.self(), obs.pathOf("tracks"),
+           obs.has("tracks") ? "expected either tracks or point_cloud, not both"
+                             : "missing (CSV time,marker,x,y,z in s and m, or a point_cloud)");
   s.observations.timeOffset = obs.number("time_offset", 0.0, "s");
   s.observations.noiseStddev = obs.number("noise_stddev", 0.0, "m", Range::NonNegative);
   s.observations.sigma = obs.number("sigma", 1e-4, "m", Range::Positive);
   s.observations.untilStep = obs.integer("until_step", c.steps);
-  s.observations.tracks =
-      readFrames(src, obs, "tracks", c.markers, "markers", c, s.observations.timeOffset);
+  if (obs.has("tracks")) {
+    if (c.markers == 0)
+      obs.fail("tracks", "the scene has no markers; add a markers: section (the observed points)");
+    s.observations.tracks =
+        readFrames(src, obs, "tracks", c.markers, "markers", c, s.observations.timeOffset);
+  } else {
+    s.observations.pointCloud = readPointCloud(src, obs, c, s.observations.timeOffset, s.notices);
+  }
 
   MapReader val(src, r.node("validation"), r.pathOf("validation"), {"tracks"});
   if (val.has("tracks")) {

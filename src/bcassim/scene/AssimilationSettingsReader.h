@@ -17,6 +17,7 @@ struct AssimilationContext {
   double dt = 0.01;          // s
   int steps = 0;
   std::string solverType = "cholmod";  // solver.type
+  bool statics = false;                // integrator.type static: every frame an equilibrium
 };
 
 // Tracks of `numPoints` points (`pointsName` in messages: "markers") at times timeOffset + k dt,

@@ -9,6 +9,8 @@ namespace bcassim {
 std::string defaultParameterName(const ModelParameterTarget& target) {
   if (const auto* e = std::get_if<YoungModulusTarget>(&target))
     return "E_" + std::to_string(e->region);
+  if (const auto* f = std::get_if<LoadForceTarget>(&target))
+    return std::string("F") + "xyz"[f->component] + "_" + std::to_string(f->load);
   const auto& k = std::get<SpringCoefficientTarget>(target);
   const char* names[] = {"k_alpha", "k_beta", "k_gamma"};
   return std::string(names[k.coefficient]) + "_" + std::to_string(k.group);
@@ -20,6 +22,19 @@ void applyParameter(const ModelParameterTarget& target, double value, Mechanical
       throw InputError(fmt::format("young_modulus parameter: region {} does not exist ({} regions)",
                                    e->region, model.elasticity.numRegions()));
     model.elasticity.setMaterial(e->region, makeMaterial(e->model, value, e->poissonRatio));
+    return;
+  }
+  if (const auto* f = std::get_if<LoadForceTarget>(&target)) {
+    if (f->load < 0 || f->load >= static_cast<int>(model.loads.size()))
+      throw InputError(fmt::format("force parameter: load {} does not exist ({} loads)", f->load,
+                                   model.loads.size()));
+    NodalLoad& load = model.loads[static_cast<size_t>(f->load)];
+    if (!load.frames.empty())
+      throw InputError(fmt::format(
+          "force parameter: load {} is given frame by frame; an estimated force needs a constant "
+          "one",
+          f->load));
+    load.setTotalForce(f->component, value);
     return;
   }
   const auto& k = std::get<SpringCoefficientTarget>(target);
@@ -46,6 +61,12 @@ double readParameter(const ModelParameterTarget& target, const MechanicalModel& 
           }
         },
         model.elasticity.material(e->region));
+  }
+  if (const auto* f = std::get_if<LoadForceTarget>(&target)) {
+    if (f->load < 0 || f->load >= static_cast<int>(model.loads.size()))
+      throw InputError(fmt::format("force parameter: load {} does not exist ({} loads)", f->load,
+                                   model.loads.size()));
+    return model.loads[static_cast<size_t>(f->load)].totalForce()(f->component);
   }
   const auto& k = std::get<SpringCoefficientTarget>(target);
   const CubicSpringCoefficients c = model.springs.coefficients(k.group);

@@ -1,5 +1,6 @@
-// What an estimated scalar sets in the mechanical model: a region's Young's modulus or one
-// coefficient of a spring group (thesis §3.4: E; [k_alpha, k_beta, k_gamma] shared by springs).
+// What an estimated scalar sets in the mechanical model: a region's Young's modulus, one
+// coefficient of a spring group (thesis §3.4: E; [k_alpha, k_beta, k_gamma] shared by springs) or
+// one component of a load's total force (an unknown tool force, issue 14).
 #pragma once
 #include <string>
 #include <variant>
@@ -21,10 +22,18 @@ struct SpringCoefficientTarget {
   int coefficient = 0;
 };
 
-using ModelParameterTarget = std::variant<YoungModulusTarget, SpringCoefficientTarget>;
+// One component (0, 1, 2 = x, y, z) of the total force (N) of model.loads[load], shared over its
+// nodes as the load says (evenly, or by its surface weights); see NodalLoad::setTotalForce.
+struct LoadForceTarget {
+  int load = 0;
+  int component = 0;
+};
+
+using ModelParameterTarget =
+    std::variant<YoungModulusTarget, SpringCoefficientTarget, LoadForceTarget>;
 
 // The name an estimated parameter gets unless the scene names it: E_<region>, k_alpha_<group>,
-// k_beta_<group> or k_gamma_<group>.
+// k_beta_<group>, k_gamma_<group>, or F<x|y|z>_<load>.
 std::string defaultParameterName(const ModelParameterTarget& target);
 
 // Writes the physical value into the model. Throws InputError if the target does not exist.

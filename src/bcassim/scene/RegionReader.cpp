@@ -1,5 +1,7 @@
 #include "bcassim/scene/RegionReader.h"
 
+#include "bcassim/io/IndexListReader.h"
+
 namespace bcassim::yamlio {
 
 namespace {
@@ -26,13 +28,15 @@ SphereRegion parseSphere(const YamlSource& source, const YAML::Node& node,
 }  // namespace
 
 Region parseRegion(const YamlSource& source, const YAML::Node& node, const std::string& path) {
-  MapReader r(source, node, path, {"box", "sphere", "half_space", "nodes", "surface_patch"});
+  MapReader r(source, node, path,
+              {"box", "sphere", "half_space", "nodes", "nodes_file", "surface_patch"});
   int kinds = 0;
-  for (const char* k : {"box", "sphere", "half_space", "nodes", "surface_patch"})
+  for (const char* k : {"box", "sphere", "half_space", "nodes", "nodes_file", "surface_patch"})
     kinds += r.has(k) ? 1 : 0;
   if (kinds != 1)
     failAt(source, node, path,
-           "expected exactly one of box, sphere, half_space, nodes, surface_patch, got " +
+           "expected exactly one of box, sphere, half_space, nodes, nodes_file, surface_patch, "
+           "got " +
                (kinds == 0 ? std::string("none") : std::to_string(kinds)));
   if (r.has("box")) return parseBox(source, r.node("box"), r.pathOf("box"));
   if (r.has("sphere")) return parseSphere(source, r.node("sphere"), r.pathOf("sphere"));
@@ -49,6 +53,13 @@ Region parseRegion(const YamlSource& source, const YAML::Node& node, const std::
     for (size_t i = 0; i < elements.size(); ++i)
       list.indices.push_back(
           parseInteger(source, elements[i], r.pathOf("nodes") + "[" + std::to_string(i) + "]"));
+    return list;
+  }
+  if (r.has("nodes_file")) {
+    const std::string file = r.existingFile("nodes_file");
+    IndexListRegion list;
+    withContext(source, r.node("nodes_file"), r.pathOf("nodes_file"),
+                [&] { list.indices = readIndexList(file); });
     return list;
   }
   MapReader p(source, r.node("surface_patch"), r.pathOf("surface_patch"),

@@ -13,6 +13,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/io/CsvTable.h"
+#include "bcassim/io/CsvTracks.h"
 #include "bcassim/io/MeshReader.h"
 #include "bcassim/io/PointReader.h"
 #include "bcassim/io/TextLines.h"
@@ -245,15 +246,31 @@ DirichletConditions readFixed(const YamlSource& src, const MapReader& top,
   return DirichletConditions(std::move(regions), *model.pattern);
 }
 
-std::vector<NodalLoad> readLoads(const YamlSource& src, const MapReader& top, const TetMesh& mesh) {
+// loads[].total_force_frames: one row (fx fy fz, N) per step, as readPoints reads points.
+std::vector<Vec3> readForceFrames(const YamlSource& src, const MapReader& r) {
+  const std::string file = r.existingFile("total_force_frames");
+  Eigen::MatrixX3d F;
+  yamlio::withContext(src, r.node("total_force_frames"), r.pathOf("total_force_frames"),
+                      [&] { F = readPoints(file); });
+  std::vector<Vec3> frames(static_cast<size_t>(F.rows()));
+  for (Eigen::Index k = 0; k < F.rows(); ++k) frames[static_cast<size_t>(k)] = F.row(k);
+  return frames;
+}
+
+std::vector<NodalLoad> readLoads(const YamlSource& src, const MapReader& top, const TetMesh& mesh,
+                                 double dt) {
   std::vector<NodalLoad> loads;
   const auto entries = listElements(src, top.node("loads"), "loads");
   for (size_t i = 0; i < entries.size(); ++i) {
     MapReader r(src, entries[i], indexed("loads", i),
-                {"region", "total_force", "force_per_node", "distribution", "profile"});
+                {"region", "total_force", "total_force_frames", "force_per_node", "distribution",
+                 "profile"});
     NodalLoad load;
     if (r.has("total_force") && r.has("force_per_node"))
       r.fail("force_per_node", "expected either total_force or force_per_node, not both");
+    for (const char* other : {"total_force", "force_per_node"})
+      if (r.has("total_force_frames") && r.has(other))
+        r.fail(other, "expected either total_force_frames or " + std::string(other) + ", not both");
     const std::string distribution = r.choice("distribution", "nodes", {"nodes", "surface"});
     if (distribution == "surface") {
       if (r.has("force_per_node"))
@@ -276,6 +293,13 @@ std::vector<NodalLoad> readLoads(const YamlSource& src, const MapReader& top, co
       const Vec3 total = r.vec3("total_force", Vec3::Zero(), "N");
       const TimeProfile profile = readProfile(src, r.node("profile"), r.pathOf("profile"));
       load = evenNodalLoad(std::move(nodes), total, profile);
+    }
+    if (r.has("total_force_frames")) {
+      // Stored per node, as forcePerNode is: split evenly, or shared by the surface weights.
+      const double share =
+          load.weights.empty() ? 1.0 / static_cast<double>(load.nodes.size()) : 1.0;
+      for (const Vec3& total : readForceFrames(src, r)) load.frames.push_back(share * total);
+      load.frameDt = dt;
     }
     loads.push_back(std::move(load));
   }
@@ -494,15 +518,78 @@ void readTrajectory(const std::string& path, std::vector<double>& times, Eigen::
   }
 }
 
+// control_points[] with tracks: each chosen marker of an observed tracks file (thesis §5.3, the
+// tracked tackers used as prescribed points) becomes a control point of its own: mapped into the
+// mesh where it is first seen, pulled along its track (displacements from there, in track time
+// minus time_offset), held between and after its frames.
+void readTrackedControls(const YamlSource& src, const MapReader& r, const TetMesh& mesh,
+                         std::vector<ControlPointSet>& controls) {
+  const std::string file = r.existingFile("tracks");
+  MarkerTracks tracks;
+  yamlio::withContext(src, r.node("tracks"), r.pathOf("tracks"),
+                      [&] { tracks = readMarkerTracks(file); });
+  std::vector<int> ids;
+  if (r.has("markers")) {
+    const auto list = listElements(src, r.node("markers"), r.pathOf("markers"));
+    if (list.empty()) r.fail("markers", "expected a non-empty list of marker ids");
+    for (size_t k = 0; k < list.size(); ++k) {
+      const int id = yamlio::parseInteger(src, list[k], indexed(r.pathOf("markers"), k));
+      if (id >= tracks.numMarkers)
+        failAt(src, list[k], indexed(r.pathOf("markers"), k),
+               fmt::format("'{}' has markers 0 to {}, got {}", file, tracks.numMarkers - 1, id));
+      ids.push_back(id);
+    }
+  } else {
+    for (int id = 0; id < tracks.numMarkers; ++id) ids.push_back(id);
+  }
+  const double offset = r.number("time_offset", 0.0, "s");
+  const double stiffness = r.number("stiffness", 1000.0, "N/m", Range::Positive);
+  for (int id : ids) {
+    std::vector<double> times;
+    std::vector<Vec3> seen;
+    for (size_t f = 0; f < tracks.times.size(); ++f) {
+      const Vec3 p = tracks.frames[f].row(id).transpose();
+      if (!p.allFinite()) continue;
+      times.push_back(tracks.times[f] - offset);
+      seen.push_back(p);
+    }
+    if (seen.empty()) {
+      // A marker never seen prescribes nothing; tracks from a tracker may hold such ids.
+      if (r.has("markers"))
+        r.fail("markers", fmt::format("marker {} is never seen in '{}'", id, file));
+      continue;
+    }
+    Eigen::MatrixX3d start(1, 3), d(static_cast<Eigen::Index>(seen.size()), 3);
+    start.row(0) = seen.front().transpose();
+    for (size_t k = 0; k < seen.size(); ++k)
+      d.row(static_cast<Eigen::Index>(k)) = (seen[k] - seen.front()).transpose();
+    MarkerSet point = mappedPointSet(mesh, start);
+    yamlio::withContext(src, r.node("tracks"), r.pathOf("tracks"), [&] {
+      controls.emplace_back(std::move(point.points), std::move(point.rest), std::move(times),
+                            std::move(d), stiffness);
+    });
+  }
+}
+
 std::vector<ControlPointSet> readControls(const YamlSource& src, const MapReader& top,
                                           const TetMesh& mesh) {
   std::vector<ControlPointSet> controls;
   const auto entries = listElements(src, top.node("control_points"), "control_points");
   for (size_t i = 0; i < entries.size(); ++i) {
     const std::string path = indexed("control_points", i);
-    MapReader r(src, entries[i], path, {"region", "points", "trajectory", "stiffness"});
+    MapReader r(
+        src, entries[i], path,
+        {"region", "points", "trajectory", "tracks", "markers", "time_offset", "stiffness"});
+    if (r.has("tracks")) {
+      for (const char* key : {"region", "points", "trajectory"})
+        r.rejectUnless(false, key, "control points given by a trajectory (not tracks)");
+      readTrackedControls(src, r, mesh, controls);
+      continue;
+    }
+    r.rejectUnless(false, "markers", "control points given by tracks");
+    r.rejectUnless(false, "time_offset", "control points given by tracks");
     if (r.has("region") == r.has("points"))
-      failAt(src, entries[i], path, "expected exactly one of region, points");
+      failAt(src, entries[i], path, "expected exactly one of region, points, tracks");
     MarkerSet points = readMappedPoints(src, r, path, mesh, false, 0);
     if (!r.has("trajectory"))
       failAt(src, entries[i], r.pathOf("trajectory"),
@@ -611,7 +698,7 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
   solver.rejectUnless(scene.solver.type != "cholmod", "tolerance", "iterative solvers");
 
   model.dirichlet = readFixed(src, top, model);
-  model.loads = readLoads(src, top, *mesh);
+  model.loads = readLoads(src, top, *mesh, scene.dt());
   model.springs = readSprings(src, top, *mesh);
   model.controls = readControls(src, top, *mesh);
   scene.markers = readMarkers(src, top, *mesh);
@@ -628,7 +715,8 @@ Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVarian
                                       static_cast<int>(scene.validation.points.size()),
                                       scene.dt(),
                                       scene.steps,
-                                      scene.solver.type};
+                                      scene.solver.type,
+                                      scene.integrator == IntegratorKind::Static};
     scene.assimilation = yamlio::readAssimilationSettings(src, top.node("assimilation"), context);
   }
   return scene;

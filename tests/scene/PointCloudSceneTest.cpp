@@ -1,0 +1,166 @@
+// The scene keys of issue 14 (observations.point_cloud, force parameters with a random walk,
+// static assimilation, loads given frame by frame, control points from tracks): their errors name
+// line and key, and bad frames become one notice each while the run keeps what it can use.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "bcassim/Error.h"
+#include "bcassim/scene/SceneLoader.h"
+#include "support/TestFiles.h"
+
+namespace bcassim {
+namespace {
+
+namespace fs = std::filesystem;
+
+void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+// 12 points on the top face (z = 0.02) of the box below, as "x y z" lines.
+std::string twelvePoints() {
+  std::string text;
+  for (int i = 0; i < 12; ++i) text += std::to_string(0.005 + 0.007 * i) + " 0.01 0.02\n";
+  return text;
+}
+
+const char* kStaticBox =
+    "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [5, 1, 1]}\n"
+    "integrator: {type: static}\n"
+    "time: {dt: 1, steps: 4}\n"
+    "fixed: [{region: {half_space: {point: [0.001, 0, 0], normal: [-1, 0, 0]}}}]\n";
+
+const char* kLoad = "loads: [{region: {nodes: [20, 21]}, total_force: [0, 0, 0]}]\n";
+
+std::string assimilation(const std::string& parameters, const std::string& observations) {
+  return "assimilation:\n  parameters:\n" + parameters + "  observations:\n" + observations;
+}
+
+const char* kForceX = "    - {force: {load: 0, component: x}, mean: 0, stddev: 1}\n";
+const char* kCloud = "    point_cloud: {files: \"pc*.txt\"}\n";
+
+std::string errorOf(const std::string& yaml, const fs::path& dir) {
+  try {
+    loadSceneFromString(yaml, "scene.yaml", dir.string());
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+fs::path cloudDir() {
+  const fs::path dir = test::freshDir();
+  for (int k = 1; k <= 4; ++k) writeText(dir / ("pc" + std::to_string(k) + ".txt"), twelvePoints());
+  return dir;
+}
+
+TEST(PointCloudScene, ForceParametersAndStaticAssimilationAreRead) {
+  const fs::path dir = cloudDir();
+  const Scene s = loadSceneFromString(
+      std::string(kStaticBox) + kLoad +
+          assimilation("    - {force: {load: 0, component: y}, mean: 0.5, stddev: 1, "
+                       "random_walk: 0.2}\n",
+                       kCloud),
+      "scene.yaml", dir.string());
+  ASSERT_TRUE(s.assimilation);
+  const EstimatedParameter& p = s.assimilation->parameters.at(0);
+  EXPECT_EQ(p.name, "Fy_0");
+  EXPECT_DOUBLE_EQ(p.randomWalkPerStep, 0.2);  // N per sqrt(s), dt = 1 s
+  EXPECT_FALSE(s.assimilation->carryPositions);
+  EXPECT_FALSE(s.assimilation->carryVelocities);
+  ASSERT_TRUE(s.assimilation->observations.pointCloud);
+  const PointCloudSettings& pc = *s.assimilation->observations.pointCloud;
+  EXPECT_EQ(pc.frames.size(), 5u);
+  for (int k = 1; k <= 4; ++k) EXPECT_EQ(pc.frames[static_cast<size_t>(k)].rows(), 12);
+  EXPECT_TRUE(s.assimilation->notices.empty());
+}
+
+TEST(PointCloudScene, ErrorsNameLineAndKey) {
+  const fs::path dir = cloudDir();
+  const std::string b = std::string(kStaticBox);
+  EXPECT_EQ(errorOf(b + assimilation(kForceX, kCloud), dir),
+            "scene.yaml:7: assimilation.parameters[0].force.load: the scene has no loads (the "
+            "zone the force acts on)");
+  EXPECT_EQ(
+      errorOf(b + kLoad + assimilation("    - {force: {load: 0}, mean: 0, stddev: 1}\n", kCloud),
+              dir),
+      "scene.yaml:8: assimilation.parameters[0].force.component: missing (x, y or z)");
+  EXPECT_EQ(errorOf(b + kLoad +
+                        assimilation("    - {force: {load: 0, component: x}, mean: 0, stddev: 1, "
+                                     "random_walk: 1, random_walk_per_step: 1}\n",
+                                     kCloud),
+                    dir),
+            "scene.yaml:8: assimilation.parameters[0].random_walk_per_step: expected either "
+            "random_walk or random_walk_per_step, not both");
+  EXPECT_EQ(
+      errorOf(b + kLoad + assimilation(kForceX, "    point_cloud: {residual: normal}\n"), dir),
+      "scene.yaml:10: assimilation.observations.point_cloud.files: missing (a folder or "
+      "pattern of frame files, or a csv)");
+  EXPECT_EQ(
+      errorOf(b + kLoad + assimilation(kForceX, std::string(kCloud) + "    tracks: t.csv\n"), dir),
+      "scene.yaml:10: assimilation.observations.tracks: expected either tracks or "
+      "point_cloud, not both");
+  EXPECT_EQ(
+      errorOf(b + kLoad + "assimilation:\n  state: {positions: true}\n  parameters:\n" + kForceX +
+                  "  observations:\n" + kCloud,
+              dir),
+      "scene.yaml:7: assimilation.state.positions: true does not go with integrator.type static "
+      "(every frame is an equilibrium of the parameters: the filter estimates parameters only)");
+  EXPECT_EQ(errorOf(b + kLoad + "assimilation:\n  tangent: mean\n  parameters:\n" + kForceX +
+                        "  observations:\n" + kCloud,
+                    dir),
+            "scene.yaml:7: assimilation.tangent: mean is an implicit-Euler step; with "
+            "integrator.type static use own");
+  EXPECT_EQ(
+      errorOf(b + kLoad +
+                  assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", min_points: 13}\n"),
+              dir),
+      "scene.yaml:10: assimilation.observations.point_cloud: no frame with at least min_points "
+      "(13) points within time.steps (4)");
+  EXPECT_EQ(errorOf(b + "loads: [{region: {nodes: [20]}, total_force: [0, 0, 1], "
+                        "total_force_frames: f.txt}]\n",
+                    dir),
+            "scene.yaml:5: loads[0].total_force: expected either total_force_frames or "
+            "total_force, not both");
+}
+
+TEST(PointCloudScene, BadFramesAreNoticesAndTheOthersAreKept) {
+  const fs::path dir = test::freshDir();
+  writeText(dir / "pc1.txt", twelvePoints());
+  writeText(dir / "pc2.txt", "");
+  writeText(dir / "pc3.txt", twelvePoints() + "nan 0.01 0.02\n0.01 inf 0.02\n");
+  writeText(dir / "pc4.txt", "0.01 0.01 0.02\n0.02 0.01 0.02\n0.03 0.01 0.02\n");
+  const Scene s = loadSceneFromString(
+      std::string(kStaticBox) + kLoad + assimilation(kForceX, kCloud), "scene.yaml", dir.string());
+  const PointCloudSettings& pc = *s.assimilation->observations.pointCloud;
+  EXPECT_EQ(pc.present, (std::vector<bool>{false, true, false, true, false}));
+  EXPECT_EQ(pc.frames[3].rows(), 12);  // the two points that are not finite dropped
+  ASSERT_EQ(s.assimilation->notices.size(), 3u);
+  EXPECT_EQ(s.assimilation->notices[0], "pc3.txt: 2 points not finite (line 13 first), dropped");
+  EXPECT_EQ(s.assimilation->notices[1], "pc2.txt: no point; step 2 is a prediction only");
+  EXPECT_EQ(s.assimilation->notices[2],
+            "pc4.txt: 3 points, fewer than point_cloud.min_points (10); step 4 is a prediction "
+            "only");
+}
+
+TEST(PointCloudScene, ACsvWithATimeColumnGoesToTheStepsOfItsTimes) {
+  const fs::path dir = test::freshDir();
+  std::string csv = "time,x,y,z\n";
+  for (double t : {2.0, 1.0})
+    for (int i = 0; i < 12; ++i)
+      csv += std::to_string(t) + "," + std::to_string(0.005 + 0.007 * i) + ",0.01,0.02\n";
+  writeText(dir / "cloud.csv", csv);
+  const Scene s =
+      loadSceneFromString(std::string(kStaticBox) + kLoad +
+                              assimilation(kForceX, "    point_cloud: {csv: cloud.csv}\n"),
+                          "scene.yaml", dir.string());
+  const PointCloudSettings& pc = *s.assimilation->observations.pointCloud;
+  EXPECT_EQ(pc.present, (std::vector<bool>{false, true, true, false, false}));
+  ASSERT_EQ(s.assimilation->notices.size(), 1u);
+  EXPECT_EQ(s.assimilation->notices[0].rfind("cloud.csv:14: time 1", 0), 0u)
+      << s.assimilation->notices[0];
+}
+
+}  // namespace
+}  // namespace bcassim
