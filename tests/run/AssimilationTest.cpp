@@ -17,6 +17,7 @@
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/run/SimulationRunner.h"
 #include "bcassim/scene/SceneLoader.h"
+#include "support/PulledCylinderScene.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -27,24 +28,7 @@ using test::freshDir;
 // The thesis cylinder made small: ~300 nodes, ν = 0.45, a faster periodic pull at mid-length,
 // 10 markers on the front. `material` and `extra` complete it.
 std::string cylinder(int nodes, const std::string& material, const std::string& extra, int steps) {
-  return "mesh: {generator: cylinder, radius: 0.015, length: 0.18, target_nodes: " +
-         std::to_string(nodes) + "}\n" + material +
-         "damping: {rayleigh_mass: 0.1, rayleigh_stiffness: 0.01}\n"
-         "time: {dt: 0.01, steps: " +
-         std::to_string(steps) +
-         "}\n"
-         "loads:\n"
-         "  - region: {surface_patch: {box: {min: [-0.02, -0.02, 0.075], max: [0.02, 0.02, "
-         "0.105]}, direction: [0, -1, 0], max_angle_deg: 60}}\n"
-         "    total_force: [0, -0.15, 0]\n"
-         "    profile: {kind: sine, period: 1.0}\n"
-         "markers:\n"
-         "  - region: {surface_patch: {box: {min: [-0.02, -0.02, 0.03], max: [0.02, 0.02, "
-         "0.15]}, direction: [0, 1, 0], max_angle_deg: 60}}\n"
-         "    count: 10\n"
-         "validation_points: {nodes: all}\n"
-         "output: {pvd: false}\n" +
-         extra;
+  return test::pulledCylinderScene(nodes, material, steps, 10, "output: {pvd: false}\n") + extra;
 }
 
 const char* kBothEndsFixed =

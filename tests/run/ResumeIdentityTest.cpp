@@ -11,6 +11,7 @@
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/run/SimulationRunner.h"
 #include "bcassim/scene/SceneLoader.h"
+#include "support/PulledCylinderScene.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -21,25 +22,8 @@ using test::readText;
 
 // A small cylinder pulled at mid-length, both ends fixed, 10 markers (4 under 200 nodes).
 std::string cylinder(int nodes, const std::string& material, const std::string& extra, int steps) {
-  return "mesh: {generator: cylinder, radius: 0.015, length: 0.18, target_nodes: " +
-         std::to_string(nodes) + "}\n" + material +
-         "damping: {rayleigh_mass: 0.1, rayleigh_stiffness: 0.01}\n"
-         "time: {dt: 0.01, steps: " +
-         std::to_string(steps) +
-         "}\n"
-         "output: {pvd: false, every: 10}\n"
-         "loads:\n"
-         "  - region: {surface_patch: {box: {min: [-0.02, -0.02, 0.075], max: [0.02, 0.02, "
-         "0.105]}, direction: [0, -1, 0], max_angle_deg: 60}}\n"
-         "    total_force: [0, -0.15, 0]\n"
-         "    profile: {kind: sine, period: 1.0}\n"
-         "markers:\n"
-         "  - region: {surface_patch: {box: {min: [-0.02, -0.02, 0.03], max: [0.02, 0.02, "
-         "0.15]}, direction: [0, 1, 0], max_angle_deg: 60}}\n"
-         "    count: " +
-         std::to_string(nodes >= 200 ? 10 : 4) +
-         "\n"
-         "validation_points: {nodes: all}\n"
+  return test::pulledCylinderScene(nodes, material, steps, nodes >= 200 ? 10 : 4,
+                                   "output: {pvd: false, every: 10}\n") +
          "fixed:\n"
          "  - region: {half_space: {point: [0, 0, 0.0001], normal: [0, 0, -1]}}\n"
          "  - region: {half_space: {point: [0, 0, 0.1799], normal: [0, 0, 1]}}\n" +
