@@ -141,14 +141,15 @@ TEST(MechanicalForecastModel, MeanTangentForecastsStepWithTheMeansTangent) {
 
 // One tet (legs 10 cm, base fixed) whose apex a load pushes 1.1 times its height through the base
 // in one linear step of 10 ms: its two halves keep it above (tests/mechanics/test_step_recovery).
+// Corotational: the linear law's response along the normal, but an inverted tet fails it.
 MechanicalModel flattenedTet() {
   auto mesh = std::make_shared<TetMesh>();
   mesh->V.resize(4, 3);
   mesh->V << 0, 0, 0, 0.1, 0, 0, 0, 0.1, 0, 0, 0, 0.1;
   mesh->T.resize(1, 4);
   mesh->T << 0, 1, 2, 3;
-  MechanicalModel model = makeMechanicalModel(std::move(mesh), {makeMaterial("linear", 1000, 0.3)},
-                                              1000, MassKind::Lumped);
+  MechanicalModel model = makeMechanicalModel(
+      std::move(mesh), {makeMaterial("corotational", 1000, 0.3)}, 1000, MassKind::Lumped);
   model.dirichlet = DirichletConditions({{{0, 1, 2}}}, *model.pattern);
   model.loads.push_back({{3}, Vec3(0, 0, -48.3013), {}});
   return model;

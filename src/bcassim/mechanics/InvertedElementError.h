@@ -1,7 +1,7 @@
-// The error an element evaluation throws when a tet has det F <= 0: outside the domain of every
-// material law (the log of Neo-Hookean, the polar decomposition of corotational), and no
-// physical state of the others either. Carries the first such tet, its det F and how many there
-// are.
+// The error an element evaluation throws when a tet has det F <= 0 under a law that takes no
+// inverted state: outside its domain (the log of Neo-Hookean, the polar decomposition of
+// corotational) or a spurious collapsed state (StVK); the linear law alone takes it (see
+// HyperelasticMaterial.h). Carries the first such tet, its det F and how many there are.
 #pragma once
 #include <fmt/format.h>
 

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "bcassim/Error.h"
 #include "bcassim/mechanics/ElementKernels.h"
 
@@ -53,7 +55,8 @@ constexpr bool hasVolumetricSplit = requires {
   VolumetricSplit<M>::theta(Mat3());
 };
 
-// The tets with det F <= 0 one evaluation met: how many, the first and its det F.
+// The tets with det F <= 0 one evaluation met under a law that takes no inverted state (every
+// law but the linear one, see HyperelasticMaterial.h): how many, the first and its det F.
 struct InvertedTets {
   Eigen::Index count = 0, first = -1;
   double detF = 0.0;
@@ -62,6 +65,12 @@ struct InvertedTets {
       first = t;
       detF = J;
     }
+  }
+  // Counts tet t at F if its law M takes no inverted state and det F <= 0.
+  template <class M>
+  void check(Eigen::Index t, const Mat3& F) {
+    if constexpr (!M::acceptsInverted)
+      if (const double J = F.determinant(); J <= 0) add(t, J);
   }
   void throwIfAny() const {
     if (count > 0) throw InvertedElementError(first, detF, count);
@@ -98,6 +107,7 @@ TetElasticity::TetElasticity(const TetMesh& mesh, std::vector<Material> regionMa
                       "defined",
                       t, r, materials_.size()));
     tetsOfRegion_[r].push_back(static_cast<int>(t));
+    if (materials_.size() > 1) regionOfTet_.push_back(r);
   }
   if (meanDilatationPatchTets != 1) {
     for (const Material& m : materials_)
@@ -145,12 +155,25 @@ double TetElasticity::energy(const Eigen::VectorXd& x) const {
   return W;
 }
 
+// Calls visit(t) for each tet whose law takes no inverted state, in mesh order (so that the first
+// inverted tet reported is the lowest index, whatever the regions).
+template <class Visitor>
+void TetElasticity::forEachTetThatMustNotInvert(Visitor&& visit) const {
+  std::vector<bool> mustNotInvert(materials_.size());
+  for (size_t r = 0; r < materials_.size(); ++r)
+    mustNotInvert[r] = std::visit(
+        [](const auto& m) { return !std::decay_t<decltype(m)>::acceptsInverted; }, materials_[r]);
+  if (std::find(mustNotInvert.begin(), mustNotInvert.end(), true) == mustNotInvert.end()) return;
+  for (Eigen::Index t = 0; t < T_.rows(); ++t)
+    if (mustNotInvert[regionOfTet_.empty() ? 0 : regionOfTet_[t]]) visit(t);
+}
+
 Eigen::Index TetElasticity::countInverted(const Eigen::VectorXd& x) const {
   Eigen::Index inverted = 0;
-  for (Eigen::Index t = 0; t < T_.rows(); ++t) {
+  forEachTetThatMustNotInvert([&](Eigen::Index t) {
     const Eigen::Vector4i tet = T_.row(t);
     if (deformationGradient(x, tet, gradN_[t]).determinant() <= 0) ++inverted;
-  }
+  });
   return inverted;
 }
 
@@ -158,13 +181,13 @@ Eigen::Index TetElasticity::countInverted(const Eigen::VectorXd& x) const {
 // det(D_m) = 6 V > 0: the sign is that of the triple product of the deformed edges.
 void TetElasticity::requireNoInverted(const Eigen::VectorXd& x) const {
   InvertedTets inverted;
-  for (Eigen::Index t = 0; t < T_.rows(); ++t) {
+  forEachTetThatMustNotInvert([&](Eigen::Index t) {
     const Vec3 x0 = x.segment<3>(3 * T_(t, 0));
     const double det =
         (x.segment<3>(3 * T_(t, 1)) - x0)
             .dot((x.segment<3>(3 * T_(t, 2)) - x0).cross(x.segment<3>(3 * T_(t, 3)) - x0));
     if (det <= 0) inverted.add(t, det / (6.0 * volume_[t]));
-  }
+  });
   inverted.throwIfAny();
 }
 
@@ -175,7 +198,7 @@ void TetElasticity::addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd&
     for (int t : tets) {
       const Eigen::Vector4i tet = T_.row(t);
       const Mat3 F = deformationGradient(x, tet, gradN_[t]);
-      if (const double J = F.determinant(); J <= 0) inverted.add(t, J);
+      inverted.check<std::decay_t<decltype(material)>>(t, F);
       const Eigen::Matrix<double, 3, 4> H = volume_[t] * material.pk1(F) * gradN_[t].transpose();
       for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet(a)) += H.col(a);
     }
@@ -193,7 +216,7 @@ void TetElasticity::addForcesAndStiffness(const Eigen::VectorXd& x, const Assemb
       const Eigen::Vector4i tet = T_.row(t);
       const auto& G = gradN_[t];
       const Mat3 F = deformationGradient(x, tet, G);
-      if (const double J = F.determinant(); J <= 0) inverted.add(t, J);
+      inverted.check<std::decay_t<decltype(material)>>(t, F);
       ElementForces H;
       Mat12 Ke;
       elementForcesAndStiffness(material, F, G, volume_[t], H, Ke);
@@ -260,7 +283,7 @@ void TetElasticity::addPatchForcesAndStiffness(const Eigen::VectorXd& x,
       for (size_t k = 0; k < tets.size(); ++k) {
         const int t = tets[k];
         Fs[k] = deformationGradient(x, T_.row(t), gradN_[t]);
-        if (const double J = Fs[k].determinant(); J <= 0) inverted.add(t, J);
+        inverted.check<std::decay_t<decltype(material)>>(t, Fs[k]);
         VTheta += volume_[t] * split.theta(Fs[k]);
         VP += volume_[t];
       }

@@ -30,8 +30,9 @@ class TetElasticity {
   // Total elastic energy at positions x (3N node-major, m), J.
   double energy(const Eigen::VectorXd& x) const;
   // Adds the internal forces f_int = dW/dx (N) at x to f. Throws InvertedElementError, once the
-  // whole mesh is assembled, if a tet has det F <= 0 (whatever its material: no state with an
-  // inverted element is taken as a result).
+  // whole mesh is assembled, if a tet has det F <= 0 under a law that takes no inverted state
+  // (every law but the linear one, see HyperelasticMaterial.h: no such state is taken as a
+  // result). Linear tets are evaluated wherever they go.
   void addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
   // Adds f_int to f and scale * K(x) into K (K must have `pattern`'s structure). Throws
   // InvertedElementError as addInternalForces.
@@ -42,13 +43,14 @@ class TetElasticity {
   void setMaterial(int region, const Material& m) { materials_[region] = m; }
   int numRegions() const { return static_cast<int>(materials_.size()); }
   double restVolume(Eigen::Index t) const { return volume_[t]; }
-  // Number of tets with det F <= 0 at positions x.
+  // Number of tets with det F <= 0 at positions x whose law takes no inverted state (linear
+  // tets are never counted).
   Eigen::Index countInverted(const Eigen::VectorXd& x) const;
-  // Throws InvertedElementError if a tet has det F <= 0 at positions x: the check of a state that
-  // no force evaluation has seen (the end of a linearised step). About a tenth of a force
+  // Throws InvertedElementError if such a tet has det F <= 0 at positions x: the check of a state
+  // that no force evaluation has seen (the end of a linearised step). About a tenth of a force
   // assembly (det F from the edge vectors' triple product, no material law).
   void requireNoInverted(const Eigen::VectorXd& x) const;
-  // Number of tets with det F <= 0 met by the last force evaluation (0 in a healthy simulation).
+  // Number of such tets met by the last force evaluation (0 in a healthy simulation).
   Eigen::Index lastInvertedCount() const { return inverted_; }
   // The nodes of each mean-dilatation patch (empty without mean dilatation): the cliques the
   // assembly pattern must hold.
@@ -60,6 +62,8 @@ class TetElasticity {
   void forEachRegion(Visitor&& visit) const;
   template <class Visitor>
   void forEachPatchRegion(Visitor&& visit) const;
+  template <class Visitor>
+  void forEachTetThatMustNotInvert(Visitor&& visit) const;
   // Mean-dilatation versions of the three evaluations (K and pattern null for forces only).
   double patchEnergy(const Eigen::VectorXd& x) const;
   void addPatchForcesAndStiffness(const Eigen::VectorXd& x, const AssemblyPattern* pattern,
@@ -70,6 +74,7 @@ class TetElasticity {
   std::vector<double> volume_;                      // rest volume per tet, m^3
   std::vector<Material> materials_;
   std::vector<std::vector<int>> tetsOfRegion_;
+  std::vector<int> regionOfTet_;                          // empty with a single material
   std::shared_ptr<const MeanDilatationPatches> patches_;  // null: plain elements
   std::vector<std::vector<int>> patchesOfRegion_;
   mutable Eigen::Index inverted_ = 0;

@@ -15,8 +15,8 @@ class StressField {
   explicit StressField(const TetMesh& mesh);
 
   // von Mises stress sqrt(3/2 s:s) of the Cauchy stress sigma = P F^T / J in each tet (Pa) at
-  // positions x (3N, m). Tets outside their material's domain (inverted) get 0; their count is
-  // what TetElasticity::lastInvertedCount reports during stepping.
+  // positions x (3N, m). Inverted tets (det F <= 0) get 0, the linear law's included: sigma
+  // divides by J.
   Eigen::VectorXd vonMises(const TetMesh& mesh, const TetElasticity& elasticity,
                            const Eigen::VectorXd& x) const;
 

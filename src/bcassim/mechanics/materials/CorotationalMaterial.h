@@ -27,6 +27,7 @@ struct CorotationalMaterial {
   static const char* name() { return "corotational"; }
   // Defined for every F, inverted ones included.
   static bool admissible(const Mat3&) { return true; }
+  static constexpr bool acceptsInverted = false;
 
   double energy(const Mat3& F) const {
     const Vec3 s = detail::signedSingularValues(F);

@@ -15,6 +15,11 @@ namespace bcassim {
 // admissible(F): whether F lies in the material's domain; outside it (e.g. det F <= 0 for laws
 //            with ln J or J^(-1/3)) the outputs are non-finite. The hot loop does not check: the
 //            FEM calls this where it needs to detect inverted elements.
+// acceptsInverted: whether a tet with det F <= 0 is a state of the law rather than a failure.
+//            Only the linear law's: quadratic in F and blind to volume, its equilibrium is one
+//            linear system whatever it inverts (the small-strain law used far outside small
+//            strain, not a failed solve). The others are undefined there (ln J) or have spurious
+//            collapsed states (StVK, corotational): the FEM throws InvertedElementError for them.
 // name():    short lower-case identifier used in scenes and reports.
 template <class M>
 concept HyperelasticMaterial = requires(const M& m, const Mat3& F, Mat3& P, Mat9& C) {
@@ -23,6 +28,7 @@ concept HyperelasticMaterial = requires(const M& m, const Mat3& F, Mat3& P, Mat9
   { m.tangent(F) } -> std::convertible_to<Mat9>;
   { m.pk1AndTangent(F, P, C) } -> std::same_as<void>;
   { M::admissible(F) } -> std::convertible_to<bool>;
+  { M::acceptsInverted } -> std::convertible_to<bool>;
   { M::name() } -> std::convertible_to<const char*>;
 };
 

@@ -17,6 +17,8 @@ struct LinearMaterial {
   static const char* name() { return "linear"; }
   // Defined for every F, inverted ones included.
   static bool admissible(const Mat3&) { return true; }
+  // Inverted tets are states of this law, not failures (see HyperelasticMaterial.h).
+  static constexpr bool acceptsInverted = true;
 
   double energy(const Mat3& F) const {
     const Mat3 eps = 0.5 * (F + F.transpose()) - Mat3::Identity();

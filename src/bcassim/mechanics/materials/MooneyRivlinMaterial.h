@@ -35,6 +35,7 @@ struct MooneyRivlinMaterial {
   }
   static const char* name() { return "mooneyrivlin"; }
   static bool admissible(const Mat3& F) { return F.determinant() > 0.0; }
+  static constexpr bool acceptsInverted = false;
 
   double energy(const Mat3& F) const {
     const double J = F.determinant();

@@ -21,6 +21,7 @@ struct NeoHookeanMaterial {
   }
   static const char* name() { return "neohookean"; }
   static bool admissible(const Mat3& F) { return F.determinant() > 0.0; }
+  static constexpr bool acceptsInverted = false;
 
   double energy(const Mat3& F) const {
     const double lnJ = std::log(F.determinant());

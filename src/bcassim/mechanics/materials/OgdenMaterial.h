@@ -36,6 +36,7 @@ struct OgdenMaterial {
   }
   static const char* name() { return "ogden"; }
   static bool admissible(const Mat3& F) { return F.determinant() > 0.0; }
+  static constexpr bool acceptsInverted = false;
 
   double energy(const Mat3& F) const {
     const Vec3 s = detail::signedSingularValues(F);

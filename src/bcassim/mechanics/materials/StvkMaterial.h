@@ -18,6 +18,7 @@ struct StvkMaterial {
   static const char* name() { return "stvk"; }
   // Defined for every F; note the law softens and then collapses under strong compression.
   static bool admissible(const Mat3&) { return true; }
+  static constexpr bool acceptsInverted = false;
 
   double energy(const Mat3& F) const {
     const Mat3 E = greenStrain(F);
