@@ -13,8 +13,8 @@ register: from mesh-remeshed and the point clouds only, the tool force estimated
           the truth, next to the rest shape; force error |F_est - F_true| / |F_true|.
 
 The scenes are templates: {data}, {sequence}, {inputs}, {material}, {fixed} and {threads} are
-filled in per sequence (verify: the law of the sequence's family; register: Neo-Hookean for all),
-nothing else changes between sequences. Derived inputs (the fixed
+filled in per sequence ({material}: the law of the sequence's family, for both checks), nothing
+else changes between sequences. Derived inputs (the fixed
 vertices without 756, the interior nodes and their true tracks) are written under OUT_DIR, never
 into the repository. Summaries: OUT_DIR/verify.csv, OUT_DIR/register.csv and
 OUT_DIR/summary.md (the tables of docs/results.md). Needs numpy (/usr/bin/python3 has it).
@@ -84,16 +84,14 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
-# One law for every registration, linear sequences included: bcassim's static Newton does not
-# solve the linear law on this liver (its line search refuses the first frame's step; see
-# docs/results.md), and Neo-Hookean is its large-deformation counterpart with the same E and nu.
-REGISTER_MATERIAL = "{model: neohookean, young_modulus: 4500, poisson_ratio: 0.49}"
-
-
 def material_of(seq):
-    """The law of the sequence's family with the README's constants (E 4500 Pa, nu 0.49)."""
-    model = "neohookean" if seq.startswith("neohookean") else "linear"
-    return "{model: " + model + ", young_modulus: 4500, poisson_ratio: 0.49}"
+    """The law of the sequence's family with its constants: Neo-Hookean E 4500 Pa, nu 0.49 (the
+    data README); linear E 20 kPa, nu 0.45, which the README does not state: those of the
+    original repository's SOFA example (python/liver_with_sofa.py), and the only pair that
+    reproduces the linear truths (E 4500 Pa, nu 0.49 is 2.5 times off; see docs/results.md)."""
+    if seq.startswith("neohookean"):
+        return "{model: neohookean, young_modulus: 4500, poisson_ratio: 0.49}"
+    return "{model: linear, young_modulus: 20000, poisson_ratio: 0.45}"
 
 
 def verify(bcassim, data, out, seq):
@@ -148,7 +146,7 @@ def register(bcassim, data, out, seq, threads):
     scene = os.path.join(work, "register.yaml")
     with open(scene, "w") as f:
         f.write(fill("register.yaml", data=data, sequence=seq, inputs=inputs, threads=threads,
-                     material=REGISTER_MATERIAL))
+                     material=material_of(seq)))
     run_dir = os.path.join(work, "run")
     run([bcassim, "assimilate", scene, "--out", run_dir, "-q", "--no-plots"],
         os.path.join(work, "assimilate.log"))
