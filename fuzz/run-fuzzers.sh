@@ -11,7 +11,9 @@ cd "$(dirname "$0")/.."
 BUILD=${FUZZ_BUILD:-build-fuzz}
 SECONDS_EACH=${FUZZ_SECONDS:-60}
 JOBS=${JOBS:-2}
-TARGETS=${FUZZ_TARGETS:-gmsh legacy_vtk vtk_xml obj stl csv_table csv_tracks eseg scene_yaml checkpoint}
+TARGETS=${FUZZ_TARGETS:-gmsh legacy_vtk vtk_xml obj stl csv_table csv_tracks detections_csv eseg npy index_list point_cloud scene_yaml checkpoint}
+# FUZZ_RUNS=N: stop each target after N executions instead (FUZZ_SECONDS is then only a cap).
+RUNS=${FUZZ_RUNS:--1}
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S . -B "$BUILD" -DBCASSIM_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -28,11 +30,11 @@ cmake --build "$BUILD" -j"$JOBS" --target "${build_targets[@]}" > "$BUILD/fuzz-b
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:quarantine_size_mb=16:malloc_context_size=10}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 failed=()
-printf '%-12s %14s %8s  %s\n' target executions seconds result
+printf '%-14s %14s %8s  %s\n' target executions seconds result
 for t in $TARGETS; do
   mkdir -p "$BUILD/corpus/$t" "$BUILD/findings/$t"
   log="$BUILD/findings/$t.log"
-  "$BUILD/fuzz/fuzz_$t" -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb=2048 \
+  "$BUILD/fuzz/fuzz_$t" -max_total_time="$SECONDS_EACH" -runs="$RUNS" -timeout=10 -rss_limit_mb=2048 \
     -malloc_limit_mb=1024 -max_len=65536 -print_final_stats=1 \
     -artifact_prefix="$BUILD/findings/$t/" "$BUILD/corpus/$t" "fuzz/corpus/$t" > "$log" 2>&1
   status=$?
@@ -43,7 +45,8 @@ for t in $TARGETS; do
     result="FINDING (exit $status): see $log and $BUILD/findings/$t/"
     failed+=("$t")
   fi
-  printf '%-12s %14s %8s  %s\n' "$t" "$runs" "$SECONDS_EACH" "$result"
+  seconds=$(grep -o 'Done [0-9]* runs in [0-9]* second' "$log" | grep -o '[0-9]* second' | grep -o '[0-9]*' || echo "$SECONDS_EACH")
+  printf '%-14s %14s %8s  %s\n' "$t" "$runs" "$seconds" "$result"
 done
 if [ ${#failed[@]} -gt 0 ]; then
   echo "fuzz: findings in ${failed[*]}" >&2

@@ -12,6 +12,14 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An output that could not be written (a full disk, no permission, a missing device): the message
+// names the file and the system's reason. An InputError too, so that code handling bad input
+// handles it; the CLI tells them apart by exit code (4, not 2).
+class OutputError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 // A numerical failure the caller may handle (diverged solve, inverted element during a step).
 class NumericalError : public std::runtime_error {
  public:

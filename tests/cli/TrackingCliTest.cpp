@@ -110,6 +110,19 @@ TEST(TrackCli, GreedyMethodKeepsTheseWellSeparatedMarkersToo) {
   EXPECT_TRUE(has(r.out, "detections labelled: 56\n")) << r.out;
 }
 
+// An output that cannot be written is not bad input: exit code 4, the file and the system's reason
+// on one line.
+TEST(TrackCli, FullDiskIsExitFourNamingTheFileAndTheReason) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const auto dir = freshDir();
+  writeText(dir / "detections.csv", detectionsCsv());
+  std::filesystem::create_directories(dir / "out");
+  std::filesystem::create_symlink("/dev/full", dir / "out" / "tracks.csv");
+  const test::CliResult r = runBcassim(dir, "track detections.csv --out out");
+  EXPECT_EQ(r.exitCode, 4);
+  EXPECT_EQ(r.err, "bcassim: error: out/tracks.csv: cannot write file (No space left on device)\n");
+}
+
 void expectError(const std::filesystem::path& dir, const std::string& args,
                  const std::string& message) {
   SCOPED_TRACE(args);

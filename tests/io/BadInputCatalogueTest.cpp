@@ -1,16 +1,18 @@
 // The bad-input catalogue: every file of tests/data/bad/ run through the bcassim executable ends
-// with exit code 2 and exactly the one-line message listed here, naming the file, the line, byte
-// or element, and what was expected. One ctest case per class of bad input; docs/robustness.md
-// says what each reader checks.
+// with exit code 2 and exactly the one-line message listed here (checkpoints and point-cloud CSVs:
+// the InputError in-process), naming the file, the line, byte or element, and what was expected.
+// One ctest case per class of bad input; docs/robustness.md says what each reader checks.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "bcassim/Error.h"
 #include "bcassim/io/BinaryArchive.h"
+#include "bcassim/io/PointCloudFrames.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -22,11 +24,12 @@ namespace {
 constexpr const char* kMeshInfo = "mesh info {0}";
 constexpr const char* kSurfaceRead = "atlas distance {0} {0}";
 constexpr const char* kCheckpoint = "(openCheckpoint)";
+constexpr const char* kCloudCsv = "(readCloudCsv)";  // observations.point_cloud
 constexpr const char* kSimulate = "simulate {0} --out out --quiet";
 
 struct BadInput {
   const char* file;     // in tests/data/bad/
-  const char* command;  // {0} stands for the file's path, or kCheckpoint
+  const char* command;  // {0} stands for the file's path, or kCheckpoint / kCloudCsv
   const char* message;  // after "bcassim: error: <path>"
 };
 
@@ -130,6 +133,9 @@ const BadInput kCatalogue[] = {
     {"checkpoint-key-with-line-break.bin", kCheckpoint,
      ": written for another scene (\\x0a\\x00\\x00\\x00\\x00\\x00\\x00\\x00fuzz sceneN); "
      "this scene is fuzz scene"},
+    // Found by fuzz_point_cloud: a field of a point-cloud CSV was quoted raw (a carriage return).
+    {"cloud-csv-carriage-return-in-a-field.csv", kCloudCsv,
+     ":3: field y is not a number ('0.\\x0d2')"},
 };
 
 std::filesystem::path badDir() {
@@ -142,6 +148,17 @@ TEST_P(BadInputCatalogue, ExitCode2AndTheExactOneLineMessage) {
   const BadInput& bad = GetParam();
   const std::string path = (badDir() / bad.file).string();
   ASSERT_TRUE(std::filesystem::is_regular_file(path)) << path;
+  if (bad.command == kCloudCsv) {
+    try {
+      bool byTime = false;
+      std::vector<std::string> notices;
+      readCloudCsv(path, byTime, notices);
+      ADD_FAILURE() << "expected an InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.what(), fmt::format("{}{}", path, bad.message));
+    }
+    return;
+  }
   if (bad.command == kCheckpoint) {
     try {
       openCheckpoint(path, "simulation", "fuzz scene");

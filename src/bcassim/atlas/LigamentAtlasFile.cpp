@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 
 std::ofstream openOut(const fs::path& p) {
   std::ofstream f(p);
-  if (!f) throw InputError(fmt::format("{}: cannot write", p.string()));
+  if (!f) throw OutputError(fmt::format("{}: cannot write", p.string()));
   f.precision(17);
   return f;
 }

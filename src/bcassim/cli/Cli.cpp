@@ -24,10 +24,11 @@ namespace bcassim {
 namespace {
 
 // Exit codes: 0 success, 1 internal error, 2 bad input (file, scene, arguments), 3 numerical
-// failure during a run.
+// failure during a run, 4 an output that could not be written.
 constexpr int kExitInternal = 1;
 constexpr int kExitInput = 2;
 constexpr int kExitNumerical = 3;
+constexpr int kExitOutput = 4;
 
 // Every command of the executable, in the order --help lists them.
 std::vector<std::unique_ptr<Command>> allCommands() {
@@ -112,6 +113,9 @@ int run(int argc, char** argv) {
 int runCli(int argc, char** argv) {
   try {
     return run(argc, argv);
+  } catch (const OutputError& e) {
+    printError(e.what());
+    return kExitOutput;
   } catch (const InputError& e) {
     printError(e.what());
     return kExitInput;

@@ -75,8 +75,8 @@ void ArchiveWriter::fail(int error) {
   std::fclose(out_);
   out_ = nullptr;
   std::remove((path_ + ".tmp").c_str());
-  throw InputError(fmt::format("{}: cannot write ({}); the previous file is kept", path_,
-                               io::systemErrorText(error)));
+  throw OutputError(fmt::format("{}: cannot write ({}); the previous file is kept", path_,
+                                io::systemErrorText(error)));
 }
 
 void ArchiveWriter::commit() {

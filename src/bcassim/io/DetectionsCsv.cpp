@@ -74,7 +74,8 @@ std::vector<TimedPoints> readDetectionsCsv(const std::string& path) {
 void writeDetectionsCsv(const std::string& path, const std::vector<TimedPoints>& frames) {
   io::createParentDirectory(path);
   std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("{}: cannot write file ({})", path, std::strerror(errno)));
+  if (!out)
+    throw OutputError(fmt::format("{}: cannot write file ({})", path, std::strerror(errno)));
   out << "time,x,y,z\n";
   fmt::memory_buffer buffer;
   for (const TimedPoints& frame : frames) {

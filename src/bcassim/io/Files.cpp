@@ -54,7 +54,7 @@ void createParentDirectory(const std::string& path) {
   std::error_code ec;
   std::filesystem::create_directories(parent, ec);
   if (ec)
-    throw InputError(
+    throw OutputError(
         fmt::format("{}: cannot create directory '{}' ({})", path, parent.string(), ec.message()));
 }
 
@@ -63,7 +63,7 @@ std::string systemErrorText(int error) {
 }
 
 void throwWriteError(const std::string& path) {
-  throw InputError(fmt::format("{}: cannot write file ({})", path, systemErrorText(errno)));
+  throw OutputError(fmt::format("{}: cannot write file ({})", path, systemErrorText(errno)));
 }
 
 std::string lowerExtension(const std::string& path) {

@@ -33,8 +33,8 @@ void writePolyData(const std::string& path, vtkPolyData* data) {
   writer->SetInputData(data);
   writer->SetDataModeToBinary();
   const int ok = writer->Write();
-  io::throwIfVtkError(capture, path, "cannot write file");
-  if (!ok) throw InputError(fmt::format("{}: cannot write file", path));
+  io::throwIfVtkWriteError(capture, path);
+  if (!ok) throw OutputError(fmt::format("{}: cannot write file", path));
 }
 
 }  // namespace
@@ -94,8 +94,8 @@ void writeTetMesh(const std::string& path, const TetMesh& mesh, const Eigen::Vec
     writer->SetFileTypeToBinary();
     ok = writer->Write();
   }
-  io::throwIfVtkError(capture, path, "cannot write file");
-  if (!ok) throw InputError(fmt::format("{}: cannot write file", path));
+  io::throwIfVtkWriteError(capture, path);
+  if (!ok) throw OutputError(fmt::format("{}: cannot write file", path));
 }
 
 void writePointCloud(const std::string& path, const Eigen::MatrixX3d& points,

@@ -173,7 +173,7 @@ void PvdSeries::rewriteIndex() const {
   std::filesystem::rename(temporary, path, ec);
   if (ec) {
     std::filesystem::remove(temporary, ec);
-    throw InputError(fmt::format("{}: cannot write file ({})", path, ec.message()));
+    throw OutputError(fmt::format("{}: cannot write file ({})", path, ec.message()));
   }
 }
 

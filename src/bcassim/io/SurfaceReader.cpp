@@ -100,8 +100,8 @@ void writeVtkSurface(const std::string& path, const TriMesh& mesh, bool binary) 
   writer->SetInputData(data);
   if (binary) writer->SetFileTypeToBinary();
   const int ok = writer->Write();
-  io::throwIfVtkError(capture, path, "cannot write file");
-  if (!ok) throw InputError(fmt::format("{}: cannot write file", path));
+  io::throwIfVtkWriteError(capture, path);
+  if (!ok) throw OutputError(fmt::format("{}: cannot write file", path));
 }
 
 }  // namespace
@@ -134,8 +134,8 @@ void writeSurface(const std::string& path, const TriMesh& mesh) {
     writer->SetInputData(data);
     writer->SetDataModeToBinary();
     const int ok = writer->Write();
-    io::throwIfVtkError(capture, path, "cannot write file");
-    if (!ok) throw InputError(fmt::format("{}: cannot write file", path));
+    io::throwIfVtkWriteError(capture, path);
+    if (!ok) throw OutputError(fmt::format("{}: cannot write file", path));
     return;
   }
   throw InputError(

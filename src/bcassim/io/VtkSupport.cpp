@@ -167,6 +167,13 @@ void throwIfVtkError(const VtkErrorCapture& capture, const std::string& path,
                                    : fmt::format("{}: {}: {}", path, what, message));
 }
 
+void throwIfVtkWriteError(const VtkErrorCapture& capture, const std::string& path) {
+  if (!capture.hasError()) return;
+  const std::string message = capture.firstError();
+  throw OutputError(message.empty() ? fmt::format("{}: cannot write file", path)
+                                    : fmt::format("{}: cannot write file: {}", path, message));
+}
+
 void throwIfLegacyVtkError(const VtkErrorCapture& capture, const std::string& path,
                            const std::string& what) {
   // Short data (a truncated file) is only a warning to the legacy readers.

@@ -50,6 +50,10 @@ void attachFields(vtkDataSet* data, const FieldSet& fields);
 void throwIfVtkError(const VtkErrorCapture& capture, const std::string& path,
                      const std::string& what);
 
+// Throws OutputError "<path>: cannot write file: <VTK's message>" when a writer's `capture` saw an
+// error (a full disk, a folder that cannot be written).
+void throwIfVtkWriteError(const VtkErrorCapture& capture, const std::string& path);
+
 // As throwIfVtkError for the legacy readers, which report an unparsable ASCII value only as
 // "Unrecognized keyword: <value>" once they have lost their place: the value is looked up in the
 // file so the message names its line, e.g. "cube.vtk:7: value 'nan' is not a finite number".

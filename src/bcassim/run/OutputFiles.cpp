@@ -21,7 +21,7 @@ void flushOrThrow(std::ofstream& out, const std::filesystem::path& path) {
 void createOutputDirectory(const std::filesystem::path& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create directory (" + ec.message() + ")");
+  if (ec) throw OutputError(dir.string() + ": cannot create directory (" + ec.message() + ")");
 }
 
 }  // namespace bcassim

@@ -14,7 +14,7 @@ std::ofstream openForWriting(const std::filesystem::path& path);
 // if it failed.
 void flushOrThrow(std::ofstream& out, const std::filesystem::path& path);
 
-// Creates the run's output folder; throws InputError "<dir>: cannot create directory (why)".
+// Creates the run's output folder; throws OutputError "<dir>: cannot create directory (why)".
 void createOutputDirectory(const std::filesystem::path& dir);
 
 }  // namespace bcassim

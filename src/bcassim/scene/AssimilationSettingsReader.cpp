@@ -11,7 +11,7 @@
 #include "bcassim/io/IndexListReader.h"
 #include "bcassim/io/NpyReader.h"
 #include "bcassim/mechanics/FrozenTangent.h"
-#include "bcassim/scene/PointCloudFrames.h"
+#include "bcassim/io/PointCloudFrames.h"
 #include "bcassim/scene/SceneBuilders.h"
 
 namespace bcassim {

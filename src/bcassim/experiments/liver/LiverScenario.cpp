@@ -166,7 +166,7 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   const fs::path dir(outDir);
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec) throw InputError(outDir + ": cannot create directory (" + ec.message() + ")");
+  if (ec) throw OutputError(outDir + ": cannot create directory (" + ec.message() + ")");
 
   TriMesh surface;
   LabelledEdges edges;

@@ -1,4 +1,4 @@
-#include "bcassim/scene/PointCloudFrames.h"
+#include "bcassim/io/PointCloudFrames.h"
 
 #include <fmt/format.h>
 
@@ -14,6 +14,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/io/NpyReader.h"
+#include "bcassim/io/TextLines.h"
 
 namespace bcassim {
 
@@ -156,7 +157,7 @@ Eigen::MatrixX3d readTextCloud(const std::string& path, std::vector<std::string>
       const auto v = parseNumber(fields[static_cast<size_t>(k)]);
       if (!v)
         throw InputError(fmt::format("{}:{}: field {} is not a number ('{}')", path, number,
-                                     "xyz"[k], fields[static_cast<size_t>(k)]));
+                                     "xyz"[k], io::excerpt(fields[static_cast<size_t>(k)])));
       p(k) = *v;
     }
     points.add(p, number);
@@ -204,10 +205,11 @@ double csvNumber(const CsvLines& csv, size_t row, int column, const std::string&
   const std::string& field = csv.rows[row][static_cast<size_t>(column)];
   const auto v = parseNumber(field);
   if (!v)
-    throw InputError(fmt::format(
-        "{}:{}: field {} is not a number ('{}')", path, csv.lines[row],
-        csv.header.empty() ? std::to_string(column + 1) : csv.header[static_cast<size_t>(column)],
-        field));
+    throw InputError(fmt::format("{}:{}: field {} is not a number ('{}')", path, csv.lines[row],
+                                 csv.header.empty()
+                                     ? std::to_string(column + 1)
+                                     : io::excerpt(csv.header[static_cast<size_t>(column)]),
+                                 io::excerpt(field)));
   return *v;
 }
 
@@ -281,8 +283,9 @@ Eigen::MatrixX3d readCloudFile(const std::string& path, std::vector<std::string>
   if (ext == ".txt") return readTextCloud(path, notices);
   if (ext == ".csv") return readCsvCloud(path, notices);
   if (ext == ".npy") return readNpyCloud(path, notices);
-  throw InputError(fmt::format(
-      "{}: unsupported point cloud format '{}'; expected .txt, .csv or .npy", path, ext));
+  throw InputError(
+      fmt::format("{}: unsupported point cloud format '{}'; expected .txt, .csv or .npy", path,
+                  io::excerpt(ext)));
 }
 
 std::vector<CloudFrame> readCloudCsv(const std::string& path, bool& byTime,
@@ -311,7 +314,7 @@ std::vector<CloudFrame> readCloudCsv(const std::string& path, bool& byTime,
       throw InputError(fmt::format("{}:{}: {} must be {}, got {}", path, csv.lines[i],
                                    byTime ? "time" : "frame",
                                    byTime ? "a finite number (s)" : "an integer >= 0",
-                                   csv.rows[i][static_cast<size_t>(keyColumn)]));
+                                   io::excerpt(csv.rows[i][static_cast<size_t>(keyColumn)])));
     auto it = frameOf.find(key);
     if (it == frameOf.end()) {
       if (key < latest)
