@@ -10,8 +10,8 @@
 #include "bcassim/Error.h"
 #include "bcassim/io/IndexListReader.h"
 #include "bcassim/io/NpyReader.h"
-#include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/io/PointCloudFrames.h"
+#include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/scene/SceneBuilders.h"
 
 namespace bcassim {
