@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `make sanitize`: the ctest suite built with AddressSanitizer and UBSan (-O1 -g, in
+# `make sanitize`: the ctest suite built with AddressSanitizer and UBSan (-O1 -g1, in
 # build-sanitize/) and run; a memory error, a leak or undefined behaviour ends the test that
 # met it with the sanitizer's report (undefined behaviour is not recovered from). CI runs it. The
 # whole suite but the 3 end-to-end liver pipelines (they passed under ASan too: 4 minutes each).
