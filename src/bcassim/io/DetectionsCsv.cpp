@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <array>
-#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -74,8 +73,7 @@ std::vector<TimedPoints> readDetectionsCsv(const std::string& path) {
 void writeDetectionsCsv(const std::string& path, const std::vector<TimedPoints>& frames) {
   io::createParentDirectory(path);
   std::ofstream out(path);
-  if (!out)
-    throw OutputError(fmt::format("{}: cannot write file ({})", path, std::strerror(errno)));
+  if (!out) io::throwWriteError(path);
   out << "time,x,y,z\n";
   fmt::memory_buffer buffer;
   for (const TimedPoints& frame : frames) {
@@ -86,7 +84,7 @@ void writeDetectionsCsv(const std::string& path, const std::vector<TimedPoints>&
   }
   out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
   out.flush();
-  if (!out) throw InputError(fmt::format("{}: write failed ({})", path, std::strerror(errno)));
+  if (!out) io::throwWriteError(path);
 }
 
 }  // namespace bcassim
