@@ -45,14 +45,10 @@ std::string indexed(const std::string& path, size_t i) {
 constexpr double kDefaultYoungModulus = 8000.0;  // Pa, thesis cylinder
 constexpr double kDefaultPoissonRatio = 0.49;
 constexpr double kDefaultSpringLength = 0.03;  // m, thesis ligament springs
-#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
-constexpr int kDefaultMaxGeneratedNodes = 5000;  // a fuzz input must build in well under 10 s
-#else
-constexpr int kDefaultMaxGeneratedNodes = 2000000;  // a mesh of a few hundred MB
-#endif
 const CubicSpringCoefficients kDefaultSpringCoefficients{4.0, 7.0, 20.0};  // thesis cylinder truth
 
-std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& top) {
+std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& top,
+                                        const SceneLimits& limits) {
   if (!top.has("mesh"))
     failAt(src, top.self(), "", "missing section 'mesh' (a generator or a file)");
   MapReader m(src, top.node("mesh"), "mesh",
@@ -84,7 +80,7 @@ std::shared_ptr<const TetMesh> readMesh(const YamlSource& src, const MapReader& 
     m.rejectUnless(!cylinder, k, "generator box");
   // Parameters are read (and their errors located) first; the generators only add their own.
   // A size beyond max_nodes is refused before any work: a typo must not run out of memory.
-  const int maxNodes = m.integer("max_nodes", kDefaultMaxGeneratedNodes, Range::AtLeastOne);
+  const int maxNodes = m.integer("max_nodes", limits.maxGeneratedNodes, Range::AtLeastOne);
   const auto beyondMaxNodes = [&](const char* key, long long nodes, const std::string& asked) {
     if (nodes > maxNodes)
       m.fail(key, fmt::format("{}; expected at most {} nodes (mesh.max_nodes)", asked, maxNodes));
@@ -624,13 +620,13 @@ bool sharesFactorization(const YamlSource& src, const YAML::Node& root) {
 
 // `sharedFactorization`: see sharesFactorization (of the base scene, for a variant).
 Scene buildScene(const YamlSource& src, const YAML::Node& root, bool allowVariants,
-                 bool sharedFactorization) {
+                 bool sharedFactorization, const SceneLimits& limits) {
   if (!root.IsDefined() || root.IsNull())
     failAt(src, root, "", "the scene is empty; expected a map of sections (mesh, material, ...)");
   MapReader top(src, root, "", kSceneKeys);
   top.rejectUnless(allowVariants, "variants", "the scene itself, not inside a variant");
 
-  std::shared_ptr<const TetMesh> mesh = readMesh(src, top);
+  std::shared_ptr<const TetMesh> mesh = readMesh(src, top, limits);
   std::vector<Material> materials = readMaterials(src, top, *mesh);
   const double density = top.number("density", 1000.0, "kg/m^3", Range::Positive);
   const MassKind mass = top.choice("mass", "lumped", {"lumped", "consistent"}) == "lumped"
@@ -744,10 +740,10 @@ YAML::Node parse(const std::string& yaml, const YamlSource& src) {
   }
 }
 
-Scene loadFromText(const std::string& yaml, const YamlSource& src) {
+Scene loadFromText(const std::string& yaml, const YamlSource& src, const SceneLimits& limits) {
   const YAML::Node root = parse(yaml, src);
   const bool sharedFactorization = sharesFactorization(src, root);
-  Scene scene = buildScene(src, root, true, sharedFactorization);
+  Scene scene = buildScene(src, root, true, sharedFactorization, limits);
   if (!root.IsMap() || !root["variants"].IsDefined()) return scene;
   const auto variants = listElements(src, root["variants"], "variants");
   if (!variants.empty() && scene.markers.points.empty())
@@ -793,7 +789,7 @@ Scene loadFromText(const std::string& yaml, const YamlSource& src) {
       overrides[key] = kv.second;
     }
     mergeInto(merged, overrides);
-    Scene variant = buildScene(src, merged, false, sharedFactorization);
+    Scene variant = buildScene(src, merged, false, sharedFactorization, limits);
     variant.name = name;
     if (variant.steps != scene.steps || variant.dt() != scene.dt())
       failAt(src, node, path, "a variant must keep the base's time.dt and time.steps");
@@ -810,11 +806,11 @@ Scene loadFromText(const std::string& yaml, const YamlSource& src) {
 }  // namespace
 
 Scene loadSceneFromString(const std::string& yaml, const std::string& sourceName,
-                          const std::string& directory) {
-  return loadFromText(yaml, YamlSource{sourceName, directory});
+                          const std::string& directory, const SceneLimits& limits) {
+  return loadFromText(yaml, YamlSource{sourceName, directory}, limits);
 }
 
-Scene loadScene(const std::string& path) {
+Scene loadScene(const std::string& path, const SceneLimits& limits) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": cannot open file");
   std::ifstream in(path, std::ios::binary);
@@ -823,7 +819,7 @@ Scene loadScene(const std::string& path) {
   text << in.rdbuf();
   std::string directory = std::filesystem::path(path).parent_path().string();
   if (directory.empty()) directory = ".";
-  return loadSceneFromString(text.str(), path, directory);
+  return loadSceneFromString(text.str(), path, directory, limits);
 }
 
 }  // namespace bcassim
