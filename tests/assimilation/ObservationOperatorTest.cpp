@@ -67,10 +67,10 @@ class DroppingOperator final : public ObservationOperator {
   Eigen::MatrixXd H_;
 };
 
-constexpr int kSteps = 8;
-const Eigen::Vector2d kThetaTrue(1.0, -0.5);
+constexpr int kLinearSteps = 8;
+const Eigen::Vector2d kLinearThetaTrue(1.0, -0.5);
 
-StochasticState linearLayout(double physicalSigma) {
+StochasticState linearStateLayout(double physicalSigma) {
   return StochasticState(Eigen::Vector3d(0.2, -0.1, 0.0), Eigen::Vector3d::Constant(physicalSigma),
                          {{"a", 0.5, 0.4, {}}, {"b", 0.0, 0.3, {}}});
 }
@@ -82,7 +82,7 @@ void expectExactThroughOperator(Filter& filter, DroppingOperator& op, const Line
                                 const std::string& name) {
   ExactKalman kf(s, layout.initialMean(),
                  layout.initialStddev().array().square().matrix().asDiagonal());
-  const auto frames = testing::linearFrames(s, kThetaTrue, kSteps, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearThetaTrue, kLinearSteps, 0.05);
   for (size_t i = 0; i < frames.size(); ++i) {
     const FilterStepReport report = filter.step(frames[i]);
     const bool data = frames[i].values.size() > 0;
@@ -103,7 +103,7 @@ void expectExactThroughOperator(Filter& filter, DroppingOperator& op, const Line
 
 TEST(ObservationOperator, LinearisedAtTheForecastMeanEveryFilterIsTheExactKalmanFilter) {
   const LinearSystem s = LinearSystem::make();
-  const StochasticState layout = linearLayout(0.1);
+  const StochasticState layout = linearStateLayout(0.1);
   {
     StateObservingModel model(s);
     DroppingOperator op(s.H);
@@ -168,7 +168,7 @@ TEST(ObservationOperator, ParameterRandomWalkIsTheKalmanFilterWithProcessNoise) 
   const double sigma = 0.05;
   // A drifting truth, so that the noise matters.
   std::vector<Observation> frames;
-  for (int k = 1; k <= kSteps; ++k) {
+  for (int k = 1; k <= kLinearSteps; ++k) {
     const Eigen::Vector2d theta(1.0 + 0.2 * k, -0.5 + 0.1 * k);
     frames.push_back(Observation::withSigma(G * theta + LinearStatic::offset(k), sigma));
   }
@@ -176,7 +176,7 @@ TEST(ObservationOperator, ParameterRandomWalkIsTheKalmanFilterWithProcessNoise) 
   auto runExact = [&](std::vector<Eigen::VectorXd>& means, std::vector<Eigen::MatrixXd>& covs) {
     Eigen::VectorXd m = layout.initialMean();
     Eigen::MatrixXd P = layout.initialStddev().array().square().matrix().asDiagonal();
-    for (int k = 1; k <= kSteps; ++k) {
+    for (int k = 1; k <= kLinearSteps; ++k) {
       P.diagonal() += q;
       const Observation& y = frames[static_cast<size_t>(k - 1)];
       if (y.values.size() > 0) {
@@ -196,7 +196,7 @@ TEST(ObservationOperator, ParameterRandomWalkIsTheKalmanFilterWithProcessNoise) 
   const Eigen::VectorXd process = q;
 
   auto check = [&](Filter& filter, const std::string& name) {
-    for (int k = 0; k < kSteps; ++k) {
+    for (int k = 0; k < kLinearSteps; ++k) {
       filter.step(frames[static_cast<size_t>(k)]);
       EXPECT_LT((filter.mean() - means[static_cast<size_t>(k)]).cwiseAbs().maxCoeff(), 1e-10)
           << name << " step " << k + 1;
@@ -230,7 +230,7 @@ TEST(ObservationOperator, RoukfRefusesProcessNoiseOnThePhysicalPart) {
   RoukfOptions o;
   o.processVariance = (Eigen::VectorXd(5) << 0, 1e-3, 0, 1e-3, 0).finished();
   try {
-    RoukfFilter roukf(linearLayout(0.0), {&model}, serial, o);
+    RoukfFilter roukf(linearStateLayout(0.0), {&model}, serial, o);
     FAIL() << "accepted";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),

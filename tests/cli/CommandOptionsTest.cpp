@@ -36,9 +36,7 @@ const std::vector<CommandOptions> kCommands = {
     {"track", true, false, false, false},          {"register", true, false, false, false},
 };
 
-bool has(const std::string& text, const std::string& what) {
-  return text.find(what) != std::string::npos;
-}
+using test::contains;
 
 TEST(CommandOptions, EveryHelpListsTheSharedOptionsWithOneWording) {
   const auto dir = freshDir();
@@ -47,26 +45,26 @@ TEST(CommandOptions, EveryHelpListsTheSharedOptionsWithOneWording) {
     const test::CliResult r = runBcassim(dir, c.command + " --help");
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.err, "");
-    EXPECT_EQ(has(r.out, "-o,--out"), c.out) << r.out;
-    EXPECT_EQ(has(r.out, kOutHelp), c.out) << r.out;
-    EXPECT_EQ(has(r.out, "--resume"), c.resume) << r.out;
-    EXPECT_EQ(has(r.out, kResumeHelp), c.resume) << r.out;
-    EXPECT_EQ(has(r.out, "-q,--quiet"), c.quiet) << r.out;
-    EXPECT_EQ(has(r.out, kQuietHelp), c.quiet) << r.out;
-    EXPECT_EQ(has(r.out, "--threads"), c.threads) << r.out;
-    EXPECT_EQ(has(r.out, kThreadsHelp), c.threads) << r.out;
+    EXPECT_EQ(contains(r.out, "-o,--out"), c.out) << r.out;
+    EXPECT_EQ(contains(r.out, kOutHelp), c.out) << r.out;
+    EXPECT_EQ(contains(r.out, "--resume"), c.resume) << r.out;
+    EXPECT_EQ(contains(r.out, kResumeHelp), c.resume) << r.out;
+    EXPECT_EQ(contains(r.out, "-q,--quiet"), c.quiet) << r.out;
+    EXPECT_EQ(contains(r.out, kQuietHelp), c.quiet) << r.out;
+    EXPECT_EQ(contains(r.out, "--threads"), c.threads) << r.out;
+    EXPECT_EQ(contains(r.out, kThreadsHelp), c.threads) << r.out;
   }
 }
 
 TEST(CommandOptions, OutShowsItsDefault) {
   const auto dir = freshDir();
-  EXPECT_TRUE(has(runBcassim(dir, "simulate --help").out, "-o,--out TEXT=out "));
-  EXPECT_TRUE(has(runBcassim(dir, "liver run --help").out, "-o,--out TEXT=out/liver "));
-  EXPECT_TRUE(has(runBcassim(dir, "atlas build --help").out, "-o,--out TEXT=out/atlas "));
-  EXPECT_TRUE(has(runBcassim(dir, "track --help").out, "-o,--out TEXT=out/track "));
-  EXPECT_TRUE(has(runBcassim(dir, "register --help").out, "-o,--out TEXT=out/register "));
+  EXPECT_TRUE(contains(runBcassim(dir, "simulate --help").out, "-o,--out TEXT=out "));
+  EXPECT_TRUE(contains(runBcassim(dir, "liver run --help").out, "-o,--out TEXT=out/liver "));
+  EXPECT_TRUE(contains(runBcassim(dir, "atlas build --help").out, "-o,--out TEXT=out/atlas "));
+  EXPECT_TRUE(contains(runBcassim(dir, "track --help").out, "-o,--out TEXT=out/track "));
+  EXPECT_TRUE(contains(runBcassim(dir, "register --help").out, "-o,--out TEXT=out/register "));
   EXPECT_TRUE(
-      has(runBcassim(dir, "liver tracked --help").out, "-o,--out TEXT=out/liver-tracked\n"));
+      contains(runBcassim(dir, "liver tracked --help").out, "-o,--out TEXT=out/liver-tracked\n"));
 }
 
 TEST(CommandOptions, TopLevelHelpListsEveryGroup) {
@@ -75,7 +73,7 @@ TEST(CommandOptions, TopLevelHelpListsEveryGroup) {
   EXPECT_EQ(r.exitCode, 0);
   for (const char* name :
        {"simulate", "assimilate", "validate", "mesh", "track", "register", "atlas", "liver"})
-    EXPECT_TRUE(has(r.out, name)) << name;
+    EXPECT_TRUE(contains(r.out, name)) << name;
 }
 
 TEST(CommandOptions, UnknownOptionIsOneLineAndExit2) {
@@ -87,7 +85,7 @@ TEST(CommandOptions, UnknownOptionIsOneLineAndExit2) {
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(test::countLines(r.err), 1) << r.err;
     EXPECT_EQ(r.err.rfind("bcassim: error: ", 0), 0u) << r.err;
-    EXPECT_TRUE(has(r.err, "--no-such-option")) << r.err;
+    EXPECT_TRUE(contains(r.err, "--no-such-option")) << r.err;
     EXPECT_EQ(r.out, "");
   }
 }

@@ -16,7 +16,7 @@ using test::freshDir;
 using test::runBcassim;
 using test::writeText;
 
-const char* kScene =
+const char* kLockScene =
     "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
     "time: {steps: 2}\nfixed:\n  - region: {nodes: [0, 5]}\n"
     "markers:\n  - points: [[0.1, 0.02, 0.02]]\n";
@@ -43,7 +43,7 @@ TEST(OutputDirectoryLock, SecondLockOnTheSameDirectoryIsRefusedUntilTheFirstIsRe
 // be: flock conflicts between descriptions, not only between processes.
 TEST(OutputDirectoryLock, SimulateIntoALockedDirectoryIsRefusedWithExitCode2) {
   const auto dir = freshDir();
-  writeText(dir / "scene.yaml", kScene);
+  writeText(dir / "scene.yaml", kLockScene);
   std::filesystem::create_directories(dir / "out");
   const int held = ::open((dir / "out" / ".bcassim.lock").c_str(), O_RDWR | O_CREAT, 0644);
   ASSERT_GE(held, 0);
@@ -60,7 +60,7 @@ TEST(OutputDirectoryLock, SimulateIntoALockedDirectoryIsRefusedWithExitCode2) {
 
 TEST(OutputDirectoryLock, AssimilateIntoALockedDirectoryIsRefused) {
   const auto dir = freshDir();
-  writeText(dir / "scene.yaml", kScene);
+  writeText(dir / "scene.yaml", kLockScene);
   const io::OutputDirectoryLock held((dir / "out").string());
   const test::CliResult refused = runBcassim(dir, "assimilate scene.yaml --out out --quiet");
   EXPECT_EQ(refused.exitCode, 2);

@@ -24,13 +24,10 @@
 namespace bcassim {
 namespace {
 
+using test::contains;
 using test::freshDir;
 using test::runBcassim;
 using test::writeText;
-
-bool has(const std::string& text, const std::string& what) {
-  return text.find(what) != std::string::npos;
-}
 
 // Marker i at frame k: three markers 5 cm apart moving 1 mm per frame along x.
 Vec3 markerAt(int i, int k) {
@@ -106,8 +103,8 @@ TEST(TrackCli, GreedyMethodKeepsTheseWellSeparatedMarkersToo) {
   writeText(dir / "detections.csv", detectionsCsv());
   const test::CliResult r = runBcassim(dir, "track detections.csv --out out --method greedy");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_TRUE(has(r.out, "tracks confirmed: 3\n")) << r.out;
-  EXPECT_TRUE(has(r.out, "detections labelled: 56\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, "tracks confirmed: 3\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, "detections labelled: 56\n")) << r.out;
 }
 
 // An output that cannot be written is not bad input: exit code 4, the file and the system's reason
@@ -148,7 +145,7 @@ TEST(TrackCli, BadDetectionFilesAreOneLocatedLine) {
   const test::CliResult r = runBcassim(dir, "track ok.csv --gate 0");
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_EQ(test::countLines(r.err), 1) << r.err;
-  EXPECT_TRUE(has(r.err, "--gate")) << r.err;
+  EXPECT_TRUE(contains(r.err, "--gate")) << r.err;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -213,8 +210,8 @@ TEST(RegisterCli, IcpRecoversAKnownTransformFromPartOfTheSurface) {
   const RegisterCase c = makeRegisterCase(5.0, Vec3(0.004, -0.003, 0.005));
   const test::CliResult r = runBcassim(c.dir, "register model.vtu points.csv --out out");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_TRUE(has(r.out, "method: trimmed point-to-plane ICP, 13 starts probed")) << r.out;
-  EXPECT_TRUE(has(r.out, fmt::format("overlap: 100.0 % ({0} of {0} points)", c.ids.size())))
+  EXPECT_TRUE(contains(r.out, "method: trimmed point-to-plane ICP, 13 starts probed")) << r.out;
+  EXPECT_TRUE(contains(r.out, fmt::format("overlap: 100.0 % ({0} of {0} points)", c.ids.size())))
       << r.out;
   const RigidTransform t = readTransform(c.dir / "out" / "transform.csv");
   EXPECT_LT((t.rotation - c.cameraToModel.rotation).norm(), 1e-6);
@@ -234,8 +231,8 @@ TEST(RegisterCli, KabschWithModelIdsIsExact) {
   const test::CliResult r =
       runBcassim(c.dir, "register model.vtu points.csv --model-ids ids.txt --out out");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_TRUE(has(r.out, fmt::format("method: Kabsch on {} pairs\n", c.ids.size()))) << r.out;
-  EXPECT_TRUE(has(r.out, "iterations: 0\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, fmt::format("method: Kabsch on {} pairs\n", c.ids.size()))) << r.out;
+  EXPECT_TRUE(contains(r.out, "iterations: 0\n")) << r.out;
   const RigidTransform t = readTransform(c.dir / "out" / "transform.csv");
   EXPECT_LT((t.rotation - c.cameraToModel.rotation).norm(), 1e-12);
   EXPECT_LT((t.translation - c.cameraToModel.translation).norm(), 1e-12);
@@ -256,8 +253,9 @@ TEST(RegisterCli, OneFrameOfATracksCsvWithPairedPositions) {
   const test::CliResult r =
       runBcassim(c.dir, "register model.vtu tracks.csv --time 0.2 --pairs pairs.csv --out out");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_TRUE(has(r.out, "frame at t = 0.2 s of tracks.csv\n")) << r.out;
-  EXPECT_TRUE(has(r.out, fmt::format("method: Kabsch on {} pairs\n", c.ids.size() - 1))) << r.out;
+  EXPECT_TRUE(contains(r.out, "frame at t = 0.2 s of tracks.csv\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, fmt::format("method: Kabsch on {} pairs\n", c.ids.size() - 1)))
+      << r.out;
   const RigidTransform t = readTransform(c.dir / "out" / "transform.csv");
   EXPECT_LT((t.rotation - c.cameraToModel.rotation).norm(), 1e-12);
   const CsvTable moved = readCsvTable((c.dir / "out" / "moved_points.csv").string());

@@ -22,22 +22,17 @@ test::CliResult simulateScene(const std::string& yaml) {
   return runBcassim(dir, "simulate scene.yaml --out out --quiet");
 }
 
-void expectInputError(const std::string& yaml, const std::string& message) {
-  const test::CliResult r = simulateScene(yaml);
-  EXPECT_EQ(r.exitCode, 2);
-  EXPECT_EQ(r.err, "bcassim: error: " + message + "\n");
-  EXPECT_EQ(r.out, "");
-}
+using test::expectSceneInputError;
 
 TEST(Cli, UnknownKey) {
-  expectInputError(std::string(kMesh) + "material:\n  model: stvk\n  youngs_modulus: 8000\n",
-                   "scene.yaml:4: unknown key 'youngs_modulus' in material; expected one of "
-                   "model, young_modulus, poisson_ratio, c10, c01, kappa, mu, alpha");
+  expectSceneInputError(std::string(kMesh) + "material:\n  model: stvk\n  youngs_modulus: 8000\n",
+                        "scene.yaml:4: unknown key 'youngs_modulus' in material; expected one of "
+                        "model, young_modulus, poisson_ratio, c10, c01, kappa, mu, alpha");
 }
 
 TEST(Cli, WrongType) {
-  expectInputError(std::string(kMesh) + "time:\n  dt: fast\n",
-                   "scene.yaml:3: time.dt: expected a number in seconds, got 'fast'");
+  expectSceneInputError(std::string(kMesh) + "time:\n  dt: fast\n",
+                        "scene.yaml:3: time.dt: expected a number in seconds, got 'fast'");
 }
 
 TEST(Cli, MissingMeshFile) {
@@ -50,25 +45,25 @@ TEST(Cli, MissingMeshFile) {
 }
 
 TEST(Cli, NonPositiveTimeStep) {
-  expectInputError(std::string(kMesh) + "time: {dt: 0, steps: 10}\n",
-                   "scene.yaml:2: time.dt: must be > 0 seconds, got 0");
+  expectSceneInputError(std::string(kMesh) + "time: {dt: 0, steps: 10}\n",
+                        "scene.yaml:2: time.dt: must be > 0 seconds, got 0");
 }
 
 TEST(Cli, RegionSelectingNothing) {
-  expectInputError(std::string(kMesh) +
-                       "fixed:\n  - region:\n      sphere: {center: [1, 1, 1], "
-                       "radius: 0.01}\n",
-                   "scene.yaml:4: fixed[0].region: selects no node of the mesh");
+  expectSceneInputError(std::string(kMesh) +
+                            "fixed:\n  - region:\n      sphere: {center: [1, 1, 1], "
+                            "radius: 0.01}\n",
+                        "scene.yaml:4: fixed[0].region: selects no node of the mesh");
 }
 
 TEST(Cli, InvalidYaml) {
-  expectInputError(std::string(kMesh) + "time: {dt: 0.01\nsteps: 3\n",
-                   "scene.yaml:3: invalid YAML: end of map flow not found");
+  expectSceneInputError(std::string(kMesh) + "time: {dt: 0.01\nsteps: 3\n",
+                        "scene.yaml:3: invalid YAML: end of map flow not found");
 }
 
 TEST(Cli, PoissonRatioOutOfRange) {
-  expectInputError(std::string(kMesh) + "material: {poisson_ratio: 0.5}\n",
-                   "scene.yaml:2: material.poisson_ratio: must be in (-1, 0.5), got 0.5");
+  expectSceneInputError(std::string(kMesh) + "material: {poisson_ratio: 0.5}\n",
+                        "scene.yaml:2: material.poisson_ratio: must be in (-1, 0.5), got 0.5");
 }
 
 TEST(Cli, FailedRunIsANumericalErrorWithExitCode3) {

@@ -21,7 +21,8 @@ using test::freshDir;
 using test::readText;
 
 // A small cylinder pulled at mid-length, both ends fixed, 10 markers (4 under 200 nodes).
-std::string cylinder(int nodes, const std::string& material, const std::string& extra, int steps) {
+std::string bothEndsFixedCylinder(int nodes, const std::string& material, const std::string& extra,
+                                  int steps) {
   return test::pulledCylinderScene(nodes, material, steps, nodes >= 200 ? 10 : 4,
                                    "output: {pvd: false, every: 10}\n") +
          "fixed:\n"
@@ -80,26 +81,27 @@ TEST_P(ResumeIdentity, StoppedAndResumedAgainstUninterrupted) {
   const std::string material =
       "material: {model: stvk, young_modulus: 8000, poisson_ratio: 0.45}\nsolver: {type: "
       "cholmod}\n";
-  runSimulation(
-      loadSceneFromString(cylinder(o.nodes, material, "", steps), "truth.yaml", dir.string()),
-      (dir / "truth").string());
+  runSimulation(loadSceneFromString(bothEndsFixedCylinder(o.nodes, material, "", steps),
+                                    "truth.yaml", dir.string()),
+                (dir / "truth").string());
   // Sigma points sharing worker 0's factor (reuse_factorization, the default, with their own
   // tangents) need the solver that uses it; the scene loader refuses another.
   const bool sharedFactor = o.settings.find("reuse_factorization: false") == std::string::npos &&
                             o.settings.find("tangent: mean") == std::string::npos;
   const Scene scene = loadSceneFromString(
-      cylinder(o.nodes,
-               std::string("material: {model: stvk, young_modulus: 5000, poisson_ratio: 0.45}\n"
-                           "solver: {type: ") +
-                   (sharedFactor ? "factorized-pcg" : "cholmod") + "}\n",
-               "assimilation:\n  filter: " + o.filter + "\n" + o.settings +
-                   "  parameters:\n"
-                   "    - {name: E, young_modulus: {region: 0}, mean: 5000, stddev: 2000, "
-                   "transform: log}\n"
-                   "  observations: {tracks: truth/markers.csv, noise_stddev: 1.0e-4, "
-                   "sigma: 1.0e-4}\n"
-                   "  validation: {tracks: truth/validation.csv}\n",
-               steps),
+      bothEndsFixedCylinder(
+          o.nodes,
+          std::string("material: {model: stvk, young_modulus: 5000, poisson_ratio: 0.45}\n"
+                      "solver: {type: ") +
+              (sharedFactor ? "factorized-pcg" : "cholmod") + "}\n",
+          "assimilation:\n  filter: " + o.filter + "\n" + o.settings +
+              "  parameters:\n"
+              "    - {name: E, young_modulus: {region: 0}, mean: 5000, stddev: 2000, "
+              "transform: log}\n"
+              "  observations: {tracks: truth/markers.csv, noise_stddev: 1.0e-4, "
+              "sigma: 1.0e-4}\n"
+              "  validation: {tracks: truth/validation.csv}\n",
+          steps),
       "estimate.yaml", dir.string());
   const auto whole = dir / "whole", stopped = dir / "stopped";
   runAssimilation(scene, whole.string());

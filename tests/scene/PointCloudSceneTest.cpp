@@ -16,7 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+using test::writeText;
 
 // 12 points on the top face (z = 0.02) of the box below, as "x y z" lines.
 std::string twelvePoints() {

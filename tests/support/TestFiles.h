@@ -39,6 +39,11 @@ inline std::string readText(const std::filesystem::path& path) {
   return s.str();
 }
 
+// Whether `text` contains `what`.
+inline bool contains(const std::string& text, const std::string& what) {
+  return text.find(what) != std::string::npos;
+}
+
 inline int countLines(const std::string& text) {
   int n = 0;
   for (char c : text) n += c == '\n';
@@ -66,6 +71,17 @@ inline CliResult runBcassim(const std::filesystem::path& dir, const std::string&
   r.out = readText(dir / "cli.out");
   r.err = readText(dir / "cli.err");
   return r;
+}
+
+// Writes `yaml` as scene.yaml in a fresh directory, runs `bcassim simulate` on it and expects
+// exit code 2 with exactly "bcassim: error: <message>" on stderr and nothing on stdout.
+inline void expectSceneInputError(const std::string& yaml, const std::string& message) {
+  const std::filesystem::path dir = freshDir();
+  writeText(dir / "scene.yaml", yaml);
+  const CliResult r = runBcassim(dir, "simulate scene.yaml --out out --quiet");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err, "bcassim: error: " + message + "\n");
+  EXPECT_EQ(r.out, "");
 }
 
 }  // namespace bcassim::test

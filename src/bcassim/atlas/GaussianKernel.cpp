@@ -19,10 +19,10 @@
 namespace bcassim {
 namespace {
 // Rows per parallel task and columns per tile (the tile's kernel values stay in L1).
-constexpr Eigen::Index kBlockI = 16;
-constexpr Eigen::Index kTileJ = 256;
+constexpr Eigen::Index kGaussBlockI = 16;
+constexpr Eigen::Index kGaussTileJ = 256;
 
-using Tile = std::array<double, kTileJ>;
+using Tile = std::array<double, kGaussTileJ>;
 using Col = Eigen::Map<const Eigen::ArrayXd>;
 
 // Columns of a #n by 3 matrix as contiguous arrays (the matrix is column-major already, so these
@@ -56,9 +56,9 @@ inline Eigen::Map<const Eigen::ArrayXd> view(const Tile& t, Eigen::Index nj) {
 // Runs body(i) for every row, one task per block of rows.
 template <class Body>
 void forEachRow(Eigen::Index n, Body&& body) {
-  tbb::parallel_for(Eigen::Index(0), (n + kBlockI - 1) / kBlockI, [&](Eigen::Index b) {
-    const Eigen::Index end = std::min(n, (b + 1) * kBlockI);
-    for (Eigen::Index i = b * kBlockI; i < end; ++i) body(i);
+  tbb::parallel_for(Eigen::Index(0), (n + kGaussBlockI - 1) / kGaussBlockI, [&](Eigen::Index b) {
+    const Eigen::Index end = std::min(n, (b + 1) * kGaussBlockI);
+    for (Eigen::Index i = b * kGaussBlockI; i < end; ++i) body(i);
   });
 }
 
@@ -87,10 +87,10 @@ struct ConvolveCtx {
 template <int W>
 __attribute__((always_inline)) inline void convolveBody(const ConvolveCtx& c, Eigen::Index b) {
   using V = simd::Vd<W>;
-  const Eigen::Index end = std::min(c.x->rows(), (b + 1) * kBlockI);
+  const Eigen::Index end = std::min(c.x->rows(), (b + 1) * kGaussBlockI);
   const double *y0 = c.y->c[0].data(), *y1 = c.y->c[1].data(), *y2 = c.y->c[2].data();
   const double *w0 = c.w->c[0].data(), *w1 = c.w->c[1].data(), *w2 = c.w->c[2].data();
-  for (Eigen::Index i = b * kBlockI; i < end; ++i) {
+  for (Eigen::Index i = b * kGaussBlockI; i < end; ++i) {
     const double p0 = (*c.x)(i, 0), p1 = (*c.x)(i, 1), p2 = (*c.x)(i, 2);
     V a0{}, a1{}, a2{};
     for (Eigen::Index j = 0; j < c.y->padded; j += W) {
@@ -122,12 +122,12 @@ template <int W>
 __attribute__((always_inline)) inline void vjpBody(const VjpCtx& c, Eigen::Index b,
                                                    double* scatter) {
   using V = simd::Vd<W>;
-  const Eigen::Index end = std::min(c.x->rows(), (b + 1) * kBlockI);
+  const Eigen::Index end = std::min(c.x->rows(), (b + 1) * kGaussBlockI);
   const Eigen::Index np = c.y->padded;
   const double *y0 = c.y->c[0].data(), *y1 = c.y->c[1].data(), *y2 = c.y->c[2].data();
   const double *w0 = c.w->c[0].data(), *w1 = c.w->c[1].data(), *w2 = c.w->c[2].data();
   const double twoS = 2.0 * c.s;
-  for (Eigen::Index i = b * kBlockI; i < end; ++i) {
+  for (Eigen::Index i = b * kGaussBlockI; i < end; ++i) {
     const double p0 = (*c.x)(i, 0), p1 = (*c.x)(i, 1), p2 = (*c.x)(i, 2);
     const double e0 = (*c.eta)(i, 0), e1 = (*c.eta)(i, 1), e2 = (*c.eta)(i, 2);
     V sc{}, sy0{}, sy1{}, sy2{};
@@ -178,7 +178,7 @@ Eigen::MatrixX3d GaussianKernel::convolve(const Eigen::MatrixX3d& x, const Eigen
   Eigen::MatrixX3d v(x.rows(), 3);
   const Padded3 yp(y, kFar), wp(w, 0.0);
   const ConvolveCtx ctx{&x, &yp, &wp, invSigma2_, &v};
-  tbb::parallel_for(Eigen::Index(0), (x.rows() + kBlockI - 1) / kBlockI,
+  tbb::parallel_for(Eigen::Index(0), (x.rows() + kGaussBlockI - 1) / kGaussBlockI,
                     [&](Eigen::Index b) { convolveBlock(ctx, b); });
   return v;
 }
@@ -197,9 +197,9 @@ void GaussianKernel::convolveVjp(const Eigen::MatrixX3d& x, const Eigen::MatrixX
       std::vector<double>(scatter ? static_cast<size_t>(6 * np) : 0, 0.0));
   Eigen::MatrixX3d gxLocal(x.rows(), 3);
   const VjpCtx ctx{&x, &eta, &yp, &wp, invSigma2_, &gxLocal};
-  tbb::parallel_for(Eigen::Index(0), (x.rows() + kBlockI - 1) / kBlockI, [&](Eigen::Index b) {
-    vjpBlock(ctx, b, scatter ? local.local().data() : nullptr);
-  });
+  tbb::parallel_for(
+      Eigen::Index(0), (x.rows() + kGaussBlockI - 1) / kGaussBlockI,
+      [&](Eigen::Index b) { vjpBlock(ctx, b, scatter ? local.local().data() : nullptr); });
   if (gx) *gx += gxLocal;
   if (scatter) {
     for (const std::vector<double>& m : local) {
@@ -230,8 +230,8 @@ Eigen::MatrixX3d GaussianKernel::hamiltonianGradient(const Eigen::MatrixX3d& q,
     const double ai[3] = {a(i, 0), a(i, 1), a(i, 2)};
     double sumC = 0.0, sumCq[3] = {0.0, 0.0, 0.0};
     Tile k;
-    for (Eigen::Index j0 = 0; j0 < n; j0 += kTileJ) {
-      const Eigen::Index nj = std::min(kTileJ, n - j0);
+    for (Eigen::Index j0 = 0; j0 < n; j0 += kGaussTileJ) {
+      const Eigen::Index nj = std::min(kGaussTileJ, n - j0);
       kernelTile(p, qc, j0, nj, s, k);
       const double* a0 = ac.c[0] + j0;
       const double* a1 = ac.c[1] + j0;
@@ -264,8 +264,8 @@ void GaussianKernel::hamiltonianGradientVjp(const Eigen::MatrixX3d& q, const Eig
     const double xii[3] = {xi(i, 0), xi(i, 1), xi(i, 2)};
     double s1 = 0.0, s1x[3] = {0, 0, 0}, s2 = 0.0, s2q[3] = {0, 0, 0}, s3a[3] = {0, 0, 0};
     Tile k, c1, c2;
-    for (Eigen::Index j0 = 0; j0 < n; j0 += kTileJ) {
-      const Eigen::Index nj = std::min(kTileJ, n - j0);
+    for (Eigen::Index j0 = 0; j0 < n; j0 += kGaussTileJ) {
+      const Eigen::Index nj = std::min(kGaussTileJ, n - j0);
       kernelTile(p, qc, j0, nj, s, k);
       const double *q0 = qc.c[0] + j0, *q1 = qc.c[1] + j0, *q2 = qc.c[2] + j0;
       const double *a0 = ac.c[0] + j0, *a1 = ac.c[1] + j0, *a2 = ac.c[2] + j0;

@@ -14,7 +14,7 @@
 namespace bcassim {
 namespace {
 
-constexpr std::array<const char*, 4> kColumns = {"time", "x", "y", "z"};
+constexpr std::array<const char*, 4> kDetectionColumns = {"time", "x", "y", "z"};
 
 bool sameTime(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
 
@@ -40,14 +40,15 @@ std::vector<TimedPoints> readDetectionsCsv(const std::string& path) {
       first = false;
       double v = 0.0;
       if (!io::parseDouble(fields.front(), v)) {  // a header
-        bool expected = fields.size() == kColumns.size();
-        for (size_t k = 0; expected && k < fields.size(); ++k) expected = fields[k] == kColumns[k];
+        bool expected = fields.size() == kDetectionColumns.size();
+        for (size_t k = 0; expected && k < fields.size(); ++k)
+          expected = fields[k] == kDetectionColumns[k];
         if (!expected)
           in.fail(fmt::format("header '{}'; expected time,x,y,z (s, m)", io::excerpt(line)));
         continue;
       }
     }
-    if (fields.size() != kColumns.size())
+    if (fields.size() != kDetectionColumns.size())
       in.fail(fmt::format("expected 4 fields (time,x,y,z), got {}", fields.size()));
     double time = 0.0;
     if (!io::parseDouble(fields[0], time))
@@ -56,7 +57,7 @@ std::vector<TimedPoints> readDetectionsCsv(const std::string& path) {
     Eigen::Vector3d p;
     for (int k = 0; k < 3 && !noDetection; ++k)
       if (!io::parseDouble(fields[k + 1], p[k]))
-        in.fail(fmt::format("field {} is not a number ('{}')", kColumns[k + 1],
+        in.fail(fmt::format("field {} is not a number ('{}')", kDetectionColumns[k + 1],
                             io::excerpt(fields[k + 1])));
     if (frames.empty() || !sameTime(frames.back().time, time)) {
       closeFrame();

@@ -32,8 +32,6 @@ constexpr long long kMaxValues = 1LL << 40;
 // block may allocate before its data prove it.
 constexpr unsigned long long kMaxBlockBytes = 1ULL << 26;
 
-bool isXmlSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
-
 int base64Value(char c) {
   if (c >= 'A' && c <= 'Z') return c - 'A';
   if (c >= 'a' && c <= 'z') return c - 'a' + 26;

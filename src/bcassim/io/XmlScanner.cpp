@@ -12,7 +12,6 @@
 namespace bcassim::io {
 namespace {
 
-bool isXmlSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 bool isNameChar(char c) {
   const auto u = static_cast<unsigned char>(c);
   return std::isalnum(u) || c == '_' || c == '-' || c == '.' || c == ':' || u >= 0x80;

@@ -11,6 +11,9 @@ namespace bcassim::io {
 
 constexpr int kMaxXmlDepth = 64;
 
+// XML's white space (the S production): space, tab, line feed, carriage return.
+inline bool isXmlSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
 struct XmlElement {
   std::string name;
   std::vector<std::pair<std::string, std::string>> attributes;  // entity references decoded
