@@ -211,12 +211,13 @@ TYPED_TEST(NonlinearMaterials, FrameIndifferent) {
 }
 
 // F = diag(a, b, b): each P_ii below is d Psi / d F_ii derived by hand from the energy.
-struct Uniaxial {
+struct UniaxialStretch {
   double a, b;
 };
-constexpr Uniaxial kUniaxial[] = {{1.3, 0.9}, {0.7, 1.15}, {1.05, 1.05}, {2.0, 0.6}};
+constexpr UniaxialStretch kUniaxialStretches[] = {
+    {1.3, 0.9}, {0.7, 1.15}, {1.05, 1.05}, {2.0, 0.6}};
 
-Mat3 diagAbb(const Uniaxial& u) { return Vec3(u.a, u.b, u.b).asDiagonal(); }
+Mat3 diagAbb(const UniaxialStretch& u) { return Vec3(u.a, u.b, u.b).asDiagonal(); }
 
 void expectDiagonalStress(const Mat3& P, double p11, double p22) {
   EXPECT_NEAR(P(0, 0), p11, 1e-12 * std::abs(p11));
@@ -227,7 +228,7 @@ void expectDiagonalStress(const Mat3& P, double p11, double p22) {
 
 TEST(UniaxialClosedForm, Linear) {
   const auto m = LinearMaterial::fromYoungPoisson(kE, kNu);
-  for (auto [a, b] : kUniaxial) {
+  for (auto [a, b] : kUniaxialStretches) {
     const double tr = a + 2 * b - 3;
     expectDiagonalStress(m.pk1(diagAbb({a, b})), 2 * m.mu * (a - 1) + m.lambda * tr,
                          2 * m.mu * (b - 1) + m.lambda * tr);
@@ -236,7 +237,7 @@ TEST(UniaxialClosedForm, Linear) {
 
 TEST(UniaxialClosedForm, Corotational) {
   const auto m = CorotationalMaterial::fromYoungPoisson(kE, kNu);
-  for (auto [a, b] : kUniaxial) {
+  for (auto [a, b] : kUniaxialStretches) {
     const double tr = a + 2 * b - 3;
     expectDiagonalStress(m.pk1(diagAbb({a, b})), 2 * m.mu * (a - 1) + m.lambda * tr,
                          2 * m.mu * (b - 1) + m.lambda * tr);
@@ -245,7 +246,7 @@ TEST(UniaxialClosedForm, Corotational) {
 
 TEST(UniaxialClosedForm, Stvk) {
   const auto m = StvkMaterial::fromYoungPoisson(kE, kNu);
-  for (auto [a, b] : kUniaxial) {
+  for (auto [a, b] : kUniaxialStretches) {
     const double trE = (a * a + 2 * b * b - 3) / 2;
     expectDiagonalStress(m.pk1(diagAbb({a, b})), a * (m.lambda * trE + m.mu * (a * a - 1)),
                          b * (m.lambda * trE + m.mu * (b * b - 1)));
@@ -254,7 +255,7 @@ TEST(UniaxialClosedForm, Stvk) {
 
 TEST(UniaxialClosedForm, NeoHookean) {
   const auto m = NeoHookeanMaterial::fromYoungPoisson(kE, kNu);
-  for (auto [a, b] : kUniaxial) {
+  for (auto [a, b] : kUniaxialStretches) {
     const double lnJ = std::log(a * b * b);
     expectDiagonalStress(m.pk1(diagAbb({a, b})), m.mu * (a - 1 / a) + m.lambda * lnJ / a,
                          m.mu * (b - 1 / b) + m.lambda * lnJ / b);
@@ -263,7 +264,7 @@ TEST(UniaxialClosedForm, NeoHookean) {
 
 TEST(UniaxialClosedForm, MooneyRivlin) {
   const auto m = MooneyRivlinMaterial::fromYoungPoisson(kE, kNu);
-  for (auto [a, b] : kUniaxial) {
+  for (auto [a, b] : kUniaxialStretches) {
     const double J = a * b * b, I1 = a * a + 2 * b * b, I2 = 2 * a * a * b * b + b * b * b * b;
     const double j23 = std::pow(J, -2.0 / 3), j43 = std::pow(J, -4.0 / 3);
     const double p11 = m.c10 * j23 * (2 * a - 2 * I1 / (3 * a)) +
@@ -277,7 +278,7 @@ TEST(UniaxialClosedForm, MooneyRivlin) {
 
 TEST(UniaxialClosedForm, Ogden) {
   for (const auto& m : {OgdenMaterial::liver(), OgdenMaterial::fromYoungPoisson(kE, kNu, 3.0)}) {
-    for (auto [a, b] : kUniaxial) {
+    for (auto [a, b] : kUniaxialStretches) {
       const double J = a * b * b, al = m.alpha, s = std::pow(a, al) + 2 * std::pow(b, al);
       const double c = 2 * m.mu / al * std::pow(J, -al / 3);
       const double p11 = (c * (std::pow(a, al) - s / 3) + m.kappa * (J - 1) * J) / a;
@@ -339,7 +340,9 @@ TEST(RotationVariantSvd, ReconstructsWithRotationsForEveryKindOfF) {
     EXPECT_NEAR(r.V.determinant(), 1.0, 1e-14);
     EXPECT_GE(r.sigma(0), r.sigma(1) * (1 - 1e-14));
     EXPECT_GE(r.sigma(1), std::abs(r.sigma(2)) * (1 - 1e-14));
-    EXPECT_GE(r.sigma(2) * F.determinant(), 0.0);
+    // sigma_3 carries the sign of det F, which roundoff decides for a singular F (rank 1 or 2).
+    if (std::abs(F.determinant()) > 1e-13 * std::pow(F.norm(), 3))
+      EXPECT_GE(r.sigma(2) * F.determinant(), 0.0);
     if (!dense) {
       // Small singular values keep their relative accuracy (graded case 1, 1e-3, 1e-6).
       Vec3 expected = spectrum.cwiseAbs();
