@@ -42,12 +42,13 @@ bench: build
 	@bash scripts/bench.sh $(BUILD)
 
 # Fuzzing: every reader's libFuzzer target (fuzz/; clang-14 with AddressSanitizer and UBSan, built
-# in build-fuzz/) runs for FUZZ_SECONDS seconds each; any crash, hang or leak fails it.
+# in build-sanitize/, which `make sanitize` shares) runs for FUZZ_SECONDS seconds each; any crash,
+# hang or leak fails it.
 FUZZ_SECONDS ?= 60
 fuzz: deps
 	@FUZZ_SECONDS=$(FUZZ_SECONDS) JOBS=$(JOBS) bash fuzz/run-fuzzers.sh
 
-# The ctest suite again, built with AddressSanitizer and UBSan (build-sanitize/).
+# The ctest suite again, built with clang's AddressSanitizer and UBSan (build-sanitize/).
 sanitize: deps
 	@JOBS=$(JOBS) bash scripts/sanitize.sh
 
@@ -58,5 +59,5 @@ ci: test
 	@$(MAKE) --no-print-directory sanitize
 
 clean:
-	rm -rf $(BUILD) $(BUILD).configure.log build-fuzz build-fuzz.configure.log build-sanitize \
+	rm -rf $(BUILD) $(BUILD).configure.log build-sanitize \
 	  build-sanitize.configure.log out

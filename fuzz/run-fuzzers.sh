@@ -1,26 +1,20 @@
 #!/usr/bin/env bash
-# `make fuzz`: builds the libFuzzer targets (clang-14, AddressSanitizer + UBSan, in build-fuzz/)
-# and runs each for FUZZ_SECONDS seconds (default 60), one after the other, from its seed corpus
-# fuzz/corpus/<target>/ and what earlier runs found (build-fuzz/corpus/<target>/). Any finding
+# `make fuzz`: builds the libFuzzer targets (clang-14, AddressSanitizer + UBSan, in the sanitized
+# build build-sanitize/ that `make sanitize` shares) and runs each for FUZZ_SECONDS seconds (default 60), one after the other, from its seed corpus
+# fuzz/corpus/<target>/ and what earlier runs found (build-sanitize/corpus/<target>/). Any finding
 # (crash, undefined behaviour, leak, a run over 10 s, an allocation over 1 GiB) fails the run and
-# leaves its input in build-fuzz/findings/<target>/: fix it and add the input to tests/data/bad/.
+# leaves its input in build-sanitize/findings/<target>/: fix it and add the input to tests/data/bad/.
 # Prints the executions per target (docs/robustness.md records them).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
-BUILD=${FUZZ_BUILD:-build-fuzz}
 SECONDS_EACH=${FUZZ_SECONDS:-60}
 JOBS=${JOBS:-2}
 TARGETS=${FUZZ_TARGETS:-gmsh legacy_vtk vtk_xml obj stl csv_table csv_tracks detections_csv eseg npy index_list point_cloud scene_yaml checkpoint}
 # FUZZ_RUNS=N: stop each target after N executions instead (FUZZ_SECONDS is then only a cap).
 RUNS=${FUZZ_RUNS:--1}
 
-if [ ! -f "$BUILD/CMakeCache.txt" ]; then
-  cmake -S . -B "$BUILD" -DBCASSIM_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
-    -DBCASSIM_BUILD_TESTS=OFF -DBCASSIM_BUILD_BENCH=OFF > "$BUILD.configure.log" 2>&1 ||
-    { cat "$BUILD.configure.log"; exit 1; }
-fi
+BUILD=$(bash scripts/configure-sanitized.sh) || exit 1
 build_targets=()
 for t in $TARGETS; do build_targets+=("fuzz_$t"); done
 cmake --build "$BUILD" -j"$JOBS" --target "${build_targets[@]}" > "$BUILD/fuzz-build.log" 2>&1 ||
