@@ -100,7 +100,7 @@ TEST(LiveEngine, SynchronousRunGivesTheClosedFormPosterior) {
 
 TEST(LiveEngine, SlowFilterGivesTheSynchronousResultAndNeverBlocksTheRealTimeSide) {
   constexpr int kFrames = 40;
-  constexpr auto kFilterDelay = std::chrono::milliseconds(15);
+  constexpr auto kFilterDelay = std::chrono::milliseconds(25);
   const double delaySeconds = std::chrono::duration<double>(kFilterDelay).count();
   const LineToy toy;
   const std::vector<Frame> frames = toy.frames(kFrames);
@@ -130,7 +130,7 @@ TEST(LiveEngine, SlowFilterGivesTheSynchronousResultAndNeverBlocksTheRealTimeSid
   EXPECT_EQ(summary.analysed, kFrames);
   EXPECT_EQ(summary.skipped, 0);
 
-  // The filter needs kFrames × 15 ms; waiting for it even every other frame would take half.
+  // The filter needs kFrames × 25 ms; waiting for it even every other frame would take half.
   EXPECT_LT(pushSeconds, 0.5 * kFrames * delaySeconds);
   long lagged = 0;
   ASSERT_EQ(engine.records().size(), static_cast<std::size_t>(kFrames));

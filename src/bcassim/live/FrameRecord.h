@@ -14,7 +14,7 @@ struct FrameRecord {
   // Wall time of the real-time step (read the parameters, predict, hand the result to the sink),
   // s.
   double publishSeconds = 0.0;
-  // Frames the filter skipped on purpose so far, this frame's put included.
+  // Frames the filter skipped on purpose so far, including those dropped when this frame came.
   long skippedFrames = 0;
 };
 

@@ -26,7 +26,7 @@ enum class FinishMode {
 struct LiveSummary {
   long frames = 0;    // pushed
   long analysed = 0;  // by the filter
-  long skipped = 0;   // frames - analysed
+  long skipped = 0;   // on purpose: frames - analysed, unless a real-time step threw
 };
 
 class LiveEngine {
@@ -42,8 +42,10 @@ class LiveEngine {
   // The real-time side, called from one thread (the camera's) for every frame: runs the
   // real-time step with the latest parameters, records the frame, and hands it to the filter
   // without waiting for it (synchronous mode: analyses it before returning). Throws InputError
-  // for a frame out of order; an exception of the real-time step goes to the caller. After a
-  // filter error, frames are still predicted (with the last parameters) and counted as skipped.
+  // for a frame out of order. An exception of the real-time step goes to the caller, and that
+  // frame is neither recorded, analysed nor counted as skipped; the next frame's index follows
+  // it. After a filter error, frames are still predicted (with the last parameters) and counted
+  // as skipped.
   void push(Frame frame);
 
   // Ends the run and joins the filter thread; rethrows the exception the filter threw, if any.
