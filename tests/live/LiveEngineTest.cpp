@@ -300,7 +300,11 @@ TEST_P(LiveEngineModes, SetOfTheWrongSizeFromTheFilterIsAnInputError) {
 }
 
 INSTANTIATE_TEST_SUITE_P(BothModes, LiveEngineModes,
-                         ::testing::Values(LiveMode::Synchronous, LiveMode::Asynchronous));
+                         ::testing::Values(LiveMode::Synchronous, LiveMode::Asynchronous),
+                         [](const ::testing::TestParamInfo<LiveMode>& info) {
+                           return info.param == LiveMode::Synchronous ? "Synchronous"
+                                                                      : "Asynchronous";
+                         });
 
 TEST(LiveEngine, DestructionWithoutFinishStopsCleanly) {
   constexpr int kFrames = 20;
