@@ -251,6 +251,7 @@ TEST(LiverPipeline, BoundedRandomWalkKeepsAccuracyAndWidensTheParametersRadius) 
   LiverScenarioOptions o = smallPhantom();
   o.steps = 120;
   o.observedSteps = 70;
+  o.stiffnessRandomWalk = 0.3;  // 30 % per sqrt(s)
   const LiverScenario scenario = prepareLiverScenario(o, dir.string());
   runSimulation(*scenario.truthScene, (dir / "truth").string());
   Scene walking = withTruthTracks(*scenario.estimateScene, (dir / "truth").string());
