@@ -13,7 +13,8 @@ namespace {
 
 std::vector<ParameterTransform> allTransforms() {
   return {ParameterTransform::identity(), ParameterTransform::absolute(),
-          ParameterTransform::exponential(), ParameterTransform::projection(0.5, 50.0)};
+          ParameterTransform::exponential(), ParameterTransform::projection(0.5, 50.0),
+          ParameterTransform::boundedLog(0.5, 50.0)};
 }
 
 TEST(ParameterTransform, ValuesAndStddevsRoundTrip) {
@@ -53,6 +54,7 @@ TEST(ParameterTransform, RejectsValuesOutsideItsRange) {
   EXPECT_THROW(ParameterTransform::projection(2, 1), InputError);
   EXPECT_EQ(parseTransformKind("log"), TransformKind::Exponential);
   EXPECT_EQ(parseTransformKind("abs"), TransformKind::Absolute);
+  EXPECT_EQ(parseTransformKind("bounded-log"), TransformKind::BoundedLog);
   EXPECT_THROW(parseTransformKind("sqrt"), InputError);
 }
 
@@ -61,6 +63,62 @@ TEST(ParameterTransform, ProjectionAndAbsoluteKeepThePhysicalValueInRange) {
   EXPECT_EQ(box.toPhysical(-5.0), 1.0);
   EXPECT_EQ(box.toPhysical(7.0), 2.0);
   EXPECT_EQ(ParameterTransform::absolute().toPhysical(-3.0), 3.0);
+}
+
+// physical = exp(a + (b - a) sigma(u)): at u = 0 the geometric mean sqrt(lo hi) with slope
+// sqrt(lo hi) ln(hi / lo) / 4 (sigma'(0) = 1/4); at u = +-ln 3 (sigma = 3/4, 1/4) the values
+// lo^(1/4) hi^(3/4) and lo^(3/4) hi^(1/4).
+TEST(ParameterTransform, BoundedLogAnalyticValues) {
+  const double lo = 2.0, hi = 2e6;
+  const ParameterTransform t = ParameterTransform::boundedLog(lo, hi);
+  EXPECT_EQ(t.kind(), TransformKind::BoundedLog);
+  EXPECT_NEAR(t.toPhysical(0.0), 2e3, 1e-12 * 2e3);
+  EXPECT_NEAR(t.slope(0.0), 2e3 * std::log(1e6) / 4, 1e-12 * 2e3);
+  EXPECT_NEAR(t.toPhysical(std::log(3.0)), std::pow(lo, 0.25) * std::pow(hi, 0.75), 1e-9 * hi);
+  EXPECT_NEAR(t.toPhysical(-std::log(3.0)), std::pow(lo, 0.75) * std::pow(hi, 0.25), 1e-9 * hi);
+  EXPECT_NEAR(t.toUnconstrained(2e3), 0.0, 1e-12);
+  EXPECT_NEAR(t.toUnconstrained(std::pow(lo, 0.25) * std::pow(hi, 0.75)), std::log(3.0), 1e-12);
+  // A prior at the centre with a standard deviation equal to its mean: 1 in log space, i.e.
+  // 4 / ln(hi / lo) in u.
+  EXPECT_NEAR(t.stddevToUnconstrained(2e3, 2e3), 4 / std::log(1e6), 1e-15);
+}
+
+// Sigma points anywhere on the real line map into [lo, hi] and, unlike a clamp, keep a
+// positive slope: the filter still sees how the model responds to them.
+TEST(ParameterTransform, BoundedLogStaysInsideItsBoundsWithAPositiveSlope) {
+  const double lo = 0.3, hi = 300.0;
+  const ParameterTransform t = ParameterTransform::boundedLog(lo, hi);
+  double previous = 0.0;
+  for (double u = -30.0; u <= 30.0; u += 0.25) {
+    const double v = t.toPhysical(u);
+    EXPECT_GE(v, lo) << "u=" << u;
+    EXPECT_LE(v, hi) << "u=" << u;
+    EXPECT_GT(v, previous) << "u=" << u;  // strictly increasing: one value per u
+    EXPECT_GT(t.slope(u), 0.0) << "u=" << u;
+    previous = v;
+  }
+  EXPECT_DOUBLE_EQ(t.toPhysical(1e6), hi);
+  EXPECT_DOUBLE_EQ(t.toPhysical(-1e6), lo);
+  EXPECT_EQ(t.slope(1e6), 0.0);  // sigma'(u) underflows only far outside any sigma point
+}
+
+TEST(ParameterTransform, BoundedLogRejectsItsBoundsAndBadBounds) {
+  const ParameterTransform t = ParameterTransform::boundedLog(1.0, 4.0);
+  EXPECT_THROW(t.toUnconstrained(1.0), InputError);
+  EXPECT_THROW(t.toUnconstrained(4.0), InputError);
+  EXPECT_THROW(t.toUnconstrained(0.5), InputError);
+  try {
+    t.toUnconstrained(5.0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "value 5 lies outside (1, 4); a bounded-log parameter is strictly inside its "
+                 "bounds");
+  }
+  EXPECT_THROW(ParameterTransform::boundedLog(0.0, 1.0), InputError);   // log of 0
+  EXPECT_THROW(ParameterTransform::boundedLog(-1.0, 1.0), InputError);  // log of a negative
+  EXPECT_THROW(ParameterTransform::boundedLog(2.0, 2.0), InputError);
+  EXPECT_THROW(ParameterTransform::boundedLog(1.0, INFINITY), InputError);
 }
 
 TEST(StochasticState, LaysOutPhysicalPartThenUnconstrainedParameters) {

@@ -84,6 +84,9 @@ void expectSameAssimilation(const AssimilationSettings& a, const AssimilationSet
     EXPECT_TRUE(close(p.mean, q.mean));
     EXPECT_TRUE(close(p.stddev, q.stddev));
     EXPECT_EQ(p.transform.kind(), q.transform.kind());
+    EXPECT_TRUE(close(p.transform.lower(), q.transform.lower()));
+    EXPECT_TRUE(close(p.transform.upper(), q.transform.upper()));
+    EXPECT_TRUE(close(p.randomWalkPerStep, q.randomWalkPerStep));
     EXPECT_EQ(p.truth.has_value(), q.truth.has_value());
   }
   EXPECT_TRUE(close(a.observations.noiseStddev, b.observations.noiseStddev));

@@ -10,9 +10,14 @@ enum class TransformKind {
   Absolute,     // physical = |u|: a sign flip of the estimate is read as the same stiffness
   Exponential,  // physical = exp(u): the filter estimates log(value)
   Projection,   // physical = clamp(u, lo, hi): the estimate may leave the box, the model never does
+  // physical = exp(a + (b - a) sigma(u)), lo = e^a < hi = e^b, sigma the logistic: log space
+  // squeezed smoothly into (lo, hi), so sigma points never leave the box and the slope never
+  // vanishes inside it (unlike Projection, whose clamped sigma points carry no information).
+  BoundedLog,
 };
 
-// Parses "none", "abs", "exp" (alias "log") or "projection"; throws InputError otherwise.
+// Parses "none", "abs", "exp" (alias "log"), "projection" or "bounded-log"; throws InputError
+// otherwise.
 TransformKind parseTransformKind(std::string_view name);
 
 // One scalar transform u -> physical value. Standard deviations are pushed through the slope at
@@ -25,6 +30,8 @@ class ParameterTransform {
   static ParameterTransform exponential() { return ParameterTransform(TransformKind::Exponential); }
   // Throws InputError unless lo < hi.
   static ParameterTransform projection(double lo, double hi);
+  // Throws InputError unless 0 < lo < hi (both finite).
+  static ParameterTransform boundedLog(double lo, double hi);
 
   TransformKind kind() const { return kind_; }
   double lower() const { return lo_; }
@@ -32,9 +39,11 @@ class ParameterTransform {
 
   double toPhysical(double u) const;
   // Inverse on the physical range of the transform; throws InputError for a value outside it
-  // (non-positive for Exponential, negative for Absolute, outside [lo, hi] for Projection).
+  // (non-positive for Exponential, negative for Absolute, outside [lo, hi] for Projection,
+  // outside the open (lo, hi) for BoundedLog).
   double toUnconstrained(double value) const;
-  // d physical / d u at u: 1, sign(u) (1 at 0), exp(u), or 1 inside the box and 0 outside.
+  // d physical / d u at u: 1, sign(u) (1 at 0), exp(u), 1 inside the box and 0 outside, or
+  // physical (b - a) sigma(u) (1 - sigma(u)) for BoundedLog.
   double slope(double u) const;
 
   double stddevToPhysical(double u, double sdU) const;

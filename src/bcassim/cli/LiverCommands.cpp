@@ -102,6 +102,10 @@ struct LiverArguments {
     app.add_option("--ligament-stiffness", o.ligamentStiffness,
                    "Truth ligament stiffness per metre of curve (N/m per m)")
         ->capture_default_str();
+    app.add_option("--stiffness-walk", o.stiffnessRandomWalk,
+                   "Random walk of each estimated stiffness, relative (log space, 1/s^0.5; 0: "
+                   "constant)")
+        ->capture_default_str();
     app.add_option("--right-force", o.rightLobeForce,
                    "Peak downward force on the right lobe (N; 0: from --lobe-displacement)")
         ->capture_default_str();

@@ -163,17 +163,19 @@ EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
   p.mean = r.number("mean", 0.0, unit);
   p.stddev = r.number("stddev", 0.0, unit, Range::Positive);
   const std::string kind =
-      r.choice("transform", "none", {"none", "abs", "log", "exp", "projection"});
-  const bool box = kind == "projection";
-  r.rejectUnless(box, "lower", "transform projection");
-  r.rejectUnless(box, "upper", "transform projection");
+      r.choice("transform", "none", {"none", "abs", "log", "exp", "projection", "bounded-log"});
+  const bool box = kind == "projection" || kind == "bounded-log";
+  r.rejectUnless(box, "lower", "transform projection or bounded-log");
+  r.rejectUnless(box, "upper", "transform projection or bounded-log");
   if (box) {
     if (!r.has("lower") || !r.has("upper"))
-      failAt(src, node, path, "transform projection needs lower and upper");
-    const double lo = r.number("lower", 0.0, unit);
+      failAt(src, node, path, "transform " + kind + " needs lower and upper");
+    const double lo =
+        r.number("lower", 0.0, unit, kind == "bounded-log" ? Range::Positive : Range::Any);
     const double hi = r.number("upper", 0.0, unit);
     if (!(lo < hi)) r.fail("upper", fmt::format("must be > lower ({:.6g}), got {:.6g}", lo, hi));
-    p.transform = ParameterTransform::projection(lo, hi);
+    p.transform = kind == "projection" ? ParameterTransform::projection(lo, hi)
+                                       : ParameterTransform::boundedLog(lo, hi);
   } else {
     p.transform = kind == "none"  ? ParameterTransform::identity()
                   : kind == "abs" ? ParameterTransform::absolute()

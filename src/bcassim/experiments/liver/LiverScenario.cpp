@@ -161,8 +161,10 @@ double staticDisplacement(const LiverSceneSpec& spec, const Vec3& center, double
 LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::string& outDir,
                                      LiverScenario& result) {
   if (o.groups < 1 || o.markers < 3 || o.validationPoints < 1 || o.tumours < 0 || o.steps < 1 ||
-      o.observedSteps < 0 || o.dt <= 0 || o.scale <= 0)
-    throw InputError("liver: bad options (groups >= 1, markers >= 3, steps >= 1, dt > 0)");
+      o.observedSteps < 0 || o.dt <= 0 || o.scale <= 0 || !(o.stiffnessRandomWalk >= 0))
+    throw InputError(
+        "liver: bad options (groups >= 1, markers >= 3, steps >= 1, dt > 0, stiffness random walk "
+        ">= 0)");
   const fs::path dir(outDir);
   std::error_code ec;
   fs::create_directories(dir, ec);

@@ -142,9 +142,11 @@ void emitAssimilation(YAML::Emitter& out, const LiverSceneSpec& spec) {
     out << Flow << BeginMap << Key << "name" << Value << fmt::format("k_gamma_{}", g) << Key
         << "spring" << Value << BeginMap << Key << "group" << Value << g << Key << "coefficient"
         << Value << "gamma" << EndMap << Key << "mean" << Value << spec.priorStiffness << Key
-        << "stddev" << Value << spec.priorStiffness << Key << "transform" << Value << "log"
+        << "stddev" << Value << spec.priorStiffness << Key << "transform" << Value << "bounded-log"
+        << Key << "lower" << Value << spec.stiffnessLower() << Key << "upper" << Value
+        << spec.stiffnessUpper() << Key << "random_walk" << Value << spec.stiffnessRandomWalk()
         << EndMap;
-    if (g == 0) out << Comment("N/m");
+    if (g == 0) out << Comment("N/m; random_walk N/m per s^0.5");
   }
   out << EndSeq;
   out << Key << "observations" << Value << BeginMap;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "bcassim/Error.h"
@@ -136,9 +137,15 @@ Scene makeLiverEstimationScene(const LiverSceneSpec& spec) {
   s.meanTangent = true;
   s.tangentInBackground = true;
   s.tangentRefreshEvery = 2;
-  for (int g = 0; g < groups; ++g)
-    s.parameters.push_back(springParameter(g, 2, spec.priorStiffness, spec.priorStiffness,
-                                           ParameterTransform::exponential()));
+  // Log space bounded smoothly (bounded-log, centred on the prior) with a random walk: see
+  // LiverSceneSpec::stiffnessLower and LiverScenarioOptions::stiffnessRandomWalk.
+  for (int g = 0; g < groups; ++g) {
+    EstimatedParameter p = springParameter(
+        g, 2, spec.priorStiffness, spec.priorStiffness,
+        ParameterTransform::boundedLog(spec.stiffnessLower(), spec.stiffnessUpper()));
+    p.randomWalkPerStep = spec.stiffnessRandomWalk() * std::sqrt(spec.options.dt);
+    s.parameters.push_back(p);
+  }
   s.observations.noiseStddev = spec.options.noise;
   s.observations.sigma = spec.observationSigma();
   s.observations.untilStep = spec.options.observedSteps;

@@ -45,6 +45,18 @@ struct LiverSceneSpec {
   // curve, the estimation's start from the prior.
   std::vector<CubicSpringCoefficients> truthGroups, estimationGroups;
   double priorStiffness = 0;  // prior mean and standard deviation of each k_gamma, N/m
+  // Bounds of each estimated k_gamma (transform bounded-log), N/m, and its random walk in the
+  // scene's unit (N/m per s^0.5: the relative walk times the prior, the log-space walk at the
+  // prior, which is the bounds' geometric centre).
+  double stiffnessLower() const { return priorStiffness / kStiffnessBoundFactor; }
+  double stiffnessUpper() const { return priorStiffness * kStiffnessBoundFactor; }
+  double stiffnessRandomWalk() const { return options.stiffnessRandomWalk * priorStiffness; }
+  // The truth lies within a factor 4 of the prior (0.4 to 1.6 times 1/priorFactor = 2.5 its
+  // mean); springs 1000 times stiffer than that hold the liver like fixed nodes and 1000 times
+  // softer ones barely at all, so the markers cannot tell values beyond these apart: bounding
+  // there loses nothing the data could identify and stops the excursions of weakly observed groups
+  // (issue 15: k_gamma_8 at 1.4e10 N/m in the demo).
+  static constexpr double kStiffnessBoundFactor = 1e3;
   int estimationSprings = 0;  // springs of the estimation model (for the file's comment)
 
   // Truth: Ogden with the bulk modulus that makes the small-strain Poisson ratio truthPoisson.
