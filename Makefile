@@ -1,7 +1,8 @@
 # The two commands a user needs: `make demo` and `make test`. Both install missing Debian
 # packages first (scripts/install-deps.sh), then build Release into build/.
 BUILD ?= build
-JOBS ?= $(shell nproc)
+# nproc counts OMP_THREAD_LIMIT (exported below as 1), so it is asked without it.
+JOBS ?= $(shell env -u OMP_THREAD_LIMIT -u OMP_NUM_THREADS nproc)
 BCASSIM_DATA ?= ../shared/data
 export BCASSIM_DATA
 # CHOLMOD's supernodal kernels ask for 4 OpenMP threads; the parallelism is ours (sigma points,
