@@ -120,6 +120,22 @@ TEST(CommandOptions, ThreadsBelowOneIsAnArgumentErrorNamingThreads) {
     expectThreadsRefused(command, "0");
 }
 
+TEST(CommandOptions, NegativeWalkAndCameraOffsetAreArgumentErrorsNamingTheOption) {
+  const std::pair<const char*, const char*> options[] = {
+      {"liver prepare phantom", "--stiffness-walk"}, {"liver tracked phantom", "--camera-offset"}};
+  for (const auto& [command, option] : options)
+    for (const char* value : {"-0.5", "x", "nan"}) {
+      const std::string args = std::string(command) + " " + option + "=" + value;
+      SCOPED_TRACE(args);
+      const test::CliResult r = runBcassim(freshDir(), args);
+      EXPECT_EQ(r.exitCode, 2);
+      EXPECT_EQ(r.err, std::string("bcassim: error: ") + option +
+                           ": expected a number >= 0, got '" + value +
+                           "' (see 'bcassim --help')\n");
+      EXPECT_EQ(r.out, "");
+    }
+}
+
 // A file that is not there: the command's one-line message naming it, exit 2, nothing on stdout.
 void expectMissingFile(const std::string& args, const std::string& message) {
   SCOPED_TRACE(args);

@@ -102,9 +102,10 @@ struct LiverArguments {
     app.add_option("--ligament-stiffness", o.ligamentStiffness,
                    "Truth ligament stiffness per metre of curve (N/m per m)")
         ->capture_default_str();
-    app.add_option("--stiffness-walk", o.stiffnessRandomWalk,
-                   "Random walk of each estimated stiffness, relative (log space, 1/s^0.5; 0: "
-                   "constant)")
+    checkNonNegative(
+        app.add_option("--stiffness-walk", o.stiffnessRandomWalk,
+                       "Random walk of each estimated stiffness, relative (log space, 1/s^0.5; "
+                       "0: constant)"))
         ->capture_default_str();
     app.add_option("--right-force", o.rightLobeForce,
                    "Peak downward force on the right lobe (N; 0: from --lobe-displacement)")
@@ -347,9 +348,8 @@ class LiverTrackedCommand : public Command {
                    "Probability, per tacker and frame, of a spurious detection as well")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
-    app.add_option("--camera-offset", o.camera.offset,
-                   "Distance of the camera frame from the model's (m)")
-        ->check(CLI::NonNegativeNumber)
+    checkNonNegative(app.add_option("--camera-offset", o.camera.offset,
+                                    "Distance of the camera frame from the model's (m)"))
         ->capture_default_str();
     app.add_option("--camera-angle", o.camera.angleDegrees,
                    "Rotation of the camera frame from the model's (degrees)")

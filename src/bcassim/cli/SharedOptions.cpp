@@ -39,6 +39,20 @@ CLI::Option* addThreadsOption(CLI::App& app, int& threads, const std::string& wh
   return o;
 }
 
+CLI::Option* checkNonNegative(CLI::Option* option) {
+  const CLI::Validator nonNegative(
+      [](const std::string& text) -> std::string {
+        double v = 0.0;
+        const char* end = text.data() + text.size();
+        const auto [last, error] = std::from_chars(text.data(), end, v);
+        if (error != std::errc() || last != end || !(v >= 0.0))
+          return fmt::format("expected a number >= 0, got '{}'", text);
+        return "";
+      },
+      "NONNEGATIVE");
+  return option->check(nonNegative);
+}
+
 CLI::Option* addNoPlotsFlag(CLI::App& app, bool& noPlots) {
   return app.add_flag("--no-plots", noPlots, "Do not draw the PNG plots");
 }

@@ -28,6 +28,10 @@ CLI::Option* addThreadsOption(CLI::App& app, int& threads, const std::string& wh
 // --no-plots: the PNG plots drawn by a Python script after the run are skipped.
 CLI::Option* addNoPlotsFlag(CLI::App& app, bool& noPlots);
 
+// Refuses anything but a number >= 0 for `option` with one line naming it ("--x: expected a
+// number >= 0, got '-1'"). Returns the option.
+CLI::Option* checkNonNegative(CLI::Option* option);
+
 // --scale: metres per unit of a surface file (the shared livers are in mm).
 CLI::Option* addScaleOption(CLI::App& app, double& metresPerUnit);
 
