@@ -128,11 +128,18 @@ AssimilationProgress progressAt(int step, const Scene& scene, Clock::time_point 
   return p;
 }
 
-// The frame of `step` as the filter sees it: missing markers masked, seeded noise added.
-Observation observationAt(const ObservationSettings& o, int step, std::mt19937_64& rng) {
-  if (step > o.untilStep || !o.tracks.present[static_cast<size_t>(step)])
-    return Observation::none();
-  const Eigen::MatrixX3d& frame = o.tracks.frames[static_cast<size_t>(step)];
+// The markers of `step` from the scene's tracks file; null when the file has no frame there.
+const Eigen::MatrixX3d* trackedFrameAt(const ObservationSettings& o, int step) {
+  return o.tracks.present[static_cast<size_t>(step)] ? &o.tracks.frames[static_cast<size_t>(step)]
+                                                     : nullptr;
+}
+
+// The markers `observed` at `step` (null: none) as the filter sees them: missing markers masked,
+// seeded noise added.
+Observation observationAt(const ObservationSettings& o, int step, const Eigen::MatrixX3d* observed,
+                          std::mt19937_64& rng) {
+  if (step > o.untilStep || observed == nullptr) return Observation::none();
+  const Eigen::MatrixX3d& frame = *observed;
   Observation y;
   y.values.resize(3 * frame.rows());
   y.present.assign(static_cast<size_t>(y.values.size()), false);
@@ -362,8 +369,7 @@ AssimilationFiles openFiles(const Scene& scene, const AssimilationSetup& setup, 
                   "tangent_wait_ms,step_retries",
                   cutAt);
   if (s.validationTruth) files.validation = std::make_unique<ValidationLog>(scene, dir, cutAt);
-  if (!scene.hidden.points.empty())
-    files.hidden = std::make_unique<HiddenPointLog>(scene, dir, cutAt);
+  if (!scene.hidden.points.empty()) files.hidden = std::make_unique<HiddenPointLog>(dir, cutAt);
   // A resumed run keeps the notices written so far (those of the set-up among them).
   files.noticesPath = dir / "notices.txt";
   files.notices = resumeStep ? std::ofstream(files.noticesPath, std::ios::app)
@@ -407,7 +413,8 @@ FilterLoopState startFromPrior(const Scene& scene, const AssimilationSetup& setu
   layout.toReported(layout.initialMean(), layout.initialStddev(), mean, sd);
   files.estimates->write(0, 0.0, mean.tail(layout.parameterCount()),
                          sd.tail(layout.parameterCount()));
-  if (files.hidden) files.hidden->add(0, 0.0, *setup.models[0], *setup.filter, 0.0);
+  if (files.hidden)
+    files.hidden->add(0, 0.0, predictHiddenPoints(scene, *setup.models[0], *setup.filter, 0.0));
   return loop;
 }
 
@@ -471,15 +478,17 @@ void writeCheckpoint(int step, const AssimilationSetup& setup, const Assimilatio
   writeAssimilationCheckpoint(files.checkpointPath, files.checkpointKey, c);
 }
 
-// One step: observe -> filter step (forecast and correction) -> log the estimate -> validation
-// and hidden points -> timing -> checkpoint (at output steps). Every row is flushed.
-FilterStepReport filterStep(int step, const Scene& scene, AssimilationSetup& setup,
+// One step: observe (`markers`: the step's markers, null for none) -> filter step (forecast and
+// correction) -> log the estimate -> validation and hidden points (published to `stream`) ->
+// timing -> checkpoint (at output steps). Every row is flushed.
+FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d* markers,
+                            const AssimilationStream* stream, AssimilationSetup& setup,
                             AssimilationFiles& files, FilterLoopState& loop) {
   const AssimilationSettings& s = *scene.assimilation;
   const double time = step * scene.dt();
   const Observation y = setup.cloud
                             ? cloudObservationAt(s.observations, setup.cloudUsable, step, loop.rng)
-                            : observationAt(s.observations, step, loop.rng);
+                            : observationAt(s.observations, step, markers, loop.rng);
   FilterStepReport report;
   try {
     report = setup.filter->step(y);
@@ -526,6 +535,17 @@ FilterStepReport filterStep(int step, const Scene& scene, AssimilationSetup& set
   files.filter << '\n';
   flushOrThrow(files.filter, files.filterPath);
 
+  // The hidden points first, and published at once: a live display waits for nothing else.
+  loop.modelError.add(report.innovationNorm, static_cast<long>(report.observed));
+  if (files.hidden || (stream && stream->publish)) {
+    const std::vector<HiddenPointPrediction> hidden =
+        files.hidden ? predictHiddenPoints(scene, *setup.models[0], *setup.filter,
+                                           loop.modelError.variance(s.observations.sigma))
+                     : std::vector<HiddenPointPrediction>();
+    if (stream && stream->publish)
+      stream->publish({step, time, hidden, &setup.models[0]->reference().x});
+    if (files.hidden) files.hidden->add(step, time, hidden);
+  }
   const Clock::time_point v0 = Clock::now();
   if (files.validation) {
     loop.initialRun->step();
@@ -533,10 +553,6 @@ FilterStepReport filterStep(int step, const Scene& scene, AssimilationSetup& set
       files.validation->add(step, time, setup.models[0]->positionsOf(scene.validation.points),
                             loop.initialRun->positionsOf(scene.validation.points));
   }
-  loop.modelError.add(report.innovationNorm, static_cast<long>(report.observed));
-  if (files.hidden)
-    files.hidden->add(step, time, *setup.models[0], *setup.filter,
-                      loop.modelError.variance(s.observations.sigma));
   const double validationSeconds = secondsSince(v0);
 
   files.timing << fmt::format(
@@ -569,9 +585,18 @@ AssimilationResult finishAssimilation(AssimilationFiles& files, FilterLoopState&
 }  // namespace
 
 AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir,
-                                   const AssimilationCallback& progress, bool resume) {
+                                   const AssimilationCallback& progress, bool resume,
+                                   const AssimilationStream* stream) {
   const Clock::time_point started = Clock::now();
   const AssimilationSettings& s = settingsOf(scene);
+  if (!stream && s.observations.streamed)
+    throw InputError(scene.sourceFile +
+                     ": assimilation.observations.tracks: stream: the markers come from "
+                     "`bcassim serve` (OpenIGTLink); to assimilate, name a tracks file");
+  if (stream && s.observations.pointCloud)
+    throw InputError(scene.sourceFile +
+                     ": assimilation.observations.point_cloud: a streamed run takes tracked "
+                     "markers (tracks:), not point clouds yet");
   const fs::path dir(outDir);
   createOutputDirectory(dir);
 
@@ -592,7 +617,17 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
 
   // 3. The filter loop.
   for (int step = loop.firstStep; step <= scene.steps; ++step) {
-    const FilterStepReport report = filterStep(step, scene, setup, files, loop);
+    StreamedFrame streamed;
+    if (stream) {
+      streamed = stream->frame(step);
+      if (streamed.kind == StreamedFrame::Kind::End) break;
+    }
+    const Eigen::MatrixX3d* markers = !stream ? trackedFrameAt(s.observations, step)
+                                      : streamed.kind == StreamedFrame::Kind::Observed
+                                          ? &streamed.markers
+                                          : nullptr;
+    const FilterStepReport report = filterStep(step, scene, markers, stream, setup, files, loop);
+    loop.result.steps = step;
     if (progress)
       progress(progressAt(step, scene, started, report.observed == 0,
                           describeEstimate(loop.result.parameters)));

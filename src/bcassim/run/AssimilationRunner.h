@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "bcassim/run/AssimilationStream.h"
 #include "bcassim/scene/Scene.h"
 
 namespace bcassim {
@@ -70,8 +71,12 @@ struct AssimilationResult {
 //   checkpoint.bin  the run's state at every output step (output.every), replaced atomically;
 //                   with `resume` the run continues from it: the CSV files are cut back to its
 //                   step and appended to (AssimilationCheckpoint.h).
+// With `stream` (bcassim serve) the markers of each step come from stream->frame instead of the
+// tracks file (which is not read), the run ends early when it says so, and every step's hidden
+// points and mesh go to stream->publish; the files are the same. Not with a point cloud.
 AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir,
-                                   const AssimilationCallback& progress = {}, bool resume = false);
+                                   const AssimilationCallback& progress = {}, bool resume = false,
+                                   const AssimilationStream* stream = nullptr);
 
 // Forward run over the whole horizon with the last values of estimates.csv (estimatesPath),
 // compared with the truth validation tracks and with the initial parameters; writes

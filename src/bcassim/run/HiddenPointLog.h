@@ -5,29 +5,33 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <vector>
 
 #include "bcassim/assimilation/Filter.h"
 #include "bcassim/coupling/MechanicalForecastModel.h"
+#include "bcassim/run/AssimilationStream.h"
 #include "bcassim/scene/Scene.h"
 
 namespace bcassim {
+
+// Each hidden point of the scene: its position in `mean` (the model following the filter's
+// mean) and its uncertainty from `filter`. modelErrorVariance: q (m^2) of InnovationModelError,
+// added isotropically to the covariance for radius95Total (the eigenvalues shift by q).
+std::vector<HiddenPointPrediction> predictHiddenPoints(const Scene& scene,
+                                                       const MechanicalForecastModel& mean,
+                                                       const Filter& filter,
+                                                       double modelErrorVariance);
 
 class HiddenPointLog {
  public:
   // Opens dir/hidden_points.csv: new with its header, or cut back to `resumeStep` and appended
   // to. Throws InputError.
-  HiddenPointLog(const Scene& scene, const std::filesystem::path& dir,
-                 std::optional<double> resumeStep);
+  HiddenPointLog(const std::filesystem::path& dir, std::optional<double> resumeStep);
 
-  // One row per hidden point at `step` (flushed): its position in `mean` (the model following
-  // the filter's mean) and its uncertainty from `filter`. modelErrorVariance: q (m^2) of
-  // InnovationModelError, added isotropically to the covariance for radius95_total (the
-  // eigenvalues shift by q).
-  void add(int step, double time, const MechanicalForecastModel& mean, const Filter& filter,
-           double modelErrorVariance);
+  // One row per hidden point at `step` (flushed).
+  void add(int step, double time, const std::vector<HiddenPointPrediction>& points);
 
  private:
-  const Scene& scene_;
   std::filesystem::path path_;
   std::ofstream out_;
 };

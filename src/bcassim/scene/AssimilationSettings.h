@@ -67,6 +67,8 @@ struct ObservationSettings {
   double sigma = 1e-4;       // m, observation noise standard deviation the filter assumes (R)
   int untilStep = 0;         // observations are used in steps 1 .. untilStep, then free run
   double timeOffset = 0.0;   // s, track time of the scene's t = 0
+  // tracks: stream — the markers come live from bcassim serve (OpenIGTLink); `tracks` is empty.
+  bool streamed = false;
 };
 
 struct AssimilationSettings {

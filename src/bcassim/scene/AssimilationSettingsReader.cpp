@@ -431,8 +431,18 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   if (obs.has("tracks")) {
     if (c.markers == 0)
       obs.fail("tracks", "the scene has no markers; add a markers: section (the observed points)");
-    s.observations.tracks =
-        readFrames(src, obs, "tracks", c.markers, "markers", c, s.observations.timeOffset);
+    if (obs.text("tracks", "") == "stream") {
+      // bcassim serve: the markers come from OpenIGTLink, frame by frame; no file.
+      s.observations.streamed = true;
+      s.observations.tracks.file = "stream";
+      s.observations.tracks.frames.assign(
+          static_cast<size_t>(c.steps) + 1,
+          Eigen::MatrixX3d::Constant(c.markers, 3, std::numeric_limits<double>::quiet_NaN()));
+      s.observations.tracks.present.assign(static_cast<size_t>(c.steps) + 1, false);
+    } else {
+      s.observations.tracks =
+          readFrames(src, obs, "tracks", c.markers, "markers", c, s.observations.timeOffset);
+    }
   } else {
     s.observations.pointCloud = readPointCloud(src, obs, c, s.observations.timeOffset, s.notices);
   }
