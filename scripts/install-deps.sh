@@ -12,6 +12,7 @@ PACKAGES=(
   zlib1g-dev liblz4-dev liblzma-dev  # the compressors of VTK XML files, read by io/VtkXmlReader
   clang-format clang-tidy  # make lint: the formatting and the bug-finding checks CI runs
   clang-14 libclang-rt-14-dev  # make fuzz: libFuzzer, AddressSanitizer and UBSan runtimes
+  libopenigtlink-dev openigtlink-examples  # bcassim serve/replay; the examples are a third-party client for the end-to-end test
   xvfb xauth  # a virtual X display: VTK 9.1 on Debian renders the demo picture through X
 )
 

@@ -1,0 +1,124 @@
+// OpenIGTLink messages: points go out and come back in metres through the wire's millimetres and
+// float32, with their time stamp; a damaged body is refused with its one line; frames name their
+// markers or list them in order.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "bcassim/Error.h"
+#include "bcassim/stream/IgtlMessages.h"
+#include "bcassim/stream/StepClock.h"
+
+namespace bcassim {
+namespace {
+
+const unsigned char* bytes(const std::string& s) {
+  return reinterpret_cast<const unsigned char*>(s.data());
+}
+
+std::string igtlPointsError(std::string message) {
+  try {
+    decodeIgtlPoints(bytes(message), bytes(message) + kIgtlHeaderSize);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(IgtlMessages, PointsRoundTripInMetresWithTheirStamp) {
+  const std::vector<NamedPoint> sent = {{"hidden_0", {0.1234567, -0.05, 0.2}, 0.0042},
+                                        {"hidden_1", {-0.3, 0.0, 1e-4}, 0.0}};
+  const std::string m = encodeIgtlPoints("bcassim_hidden", 12.25, "bcassim", sent);
+  const IgtlHeader h = decodeIgtlHeader(bytes(m));
+  EXPECT_EQ(h.type, "POINT");
+  EXPECT_EQ(h.device, "bcassim_hidden");
+  EXPECT_NEAR(h.time, 12.25, 1e-9);
+  ASSERT_EQ(h.bodySize + kIgtlHeaderSize, m.size());
+  const std::vector<NamedPoint> got = decodeIgtlPoints(bytes(m), bytes(m) + kIgtlHeaderSize);
+  ASSERT_EQ(got.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(got[i].name, sent[i].name);
+    // float32 millimetres: 2^-24 relative, far below a micrometre at organ scale.
+    EXPECT_LT((got[i].position - sent[i].position).norm(), 1e-8);
+    EXPECT_NEAR(got[i].radius, sent[i].radius, 1e-9);
+  }
+}
+
+TEST(IgtlMessages, DamagedBodyIsRefusedByItsCrc) {
+  std::string m = encodeIgtlPoints("Markers", 1.0, "markers", {{"marker_0", {0.1, 0.2, 0.3}, 0}});
+  m[kIgtlHeaderSize + 100] ^= 0x5a;  // the first byte of the position
+  EXPECT_EQ(igtlPointsError(m), "POINT 'Markers': the body's CRC does not match its header");
+}
+
+TEST(IgtlMessages, SurfaceIsAPolyDataOfItsTriangles) {
+  Eigen::MatrixX3d v(3, 3);
+  v << 0, 0, 0, 0.01, 0, 0, 0, 0.01, 0;
+  Eigen::MatrixX3i f(1, 3);
+  f << 0, 1, 2;
+  const std::string m = encodeIgtlSurface("bcassim_surface", 2.0, v, f);
+  const IgtlHeader h = decodeIgtlHeader(bytes(m));
+  EXPECT_EQ(h.type, "POLYDATA");
+  EXPECT_EQ(h.device, "bcassim_surface");
+  // The points (3 float32 each) and the polygon (count + 3 ids, uint32) are in the body.
+  EXPECT_GE(h.bodySize, 3u * 12u + 16u);
+  EXPECT_EQ(h.bodySize + kIgtlHeaderSize, m.size());
+}
+
+TEST(IgtlMessages, HeaderOfAnotherVersionIsRefused) {
+  std::string m = encodeIgtlPoints("Markers", 1.0, "markers", {});
+  m[0] = 0x7f;
+  m[1] = 0x01;
+  try {
+    decodeIgtlHeader(bytes(m));
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "OpenIGTLink header: version 32513 (expected 1 or 2, the protocol of "
+                 "libopenigtlink 1.11)");
+  }
+}
+
+std::string markersError(const std::vector<NamedPoint>& points, int markers) {
+  try {
+    markersFromPoints(points, markers);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(IgtlMessages, NamedMarkersGoToTheirRowsAndTheOthersAreMissing) {
+  const Eigen::MatrixX3d m =
+      markersFromPoints({{"marker_2", {1, 2, 3}, 0}, {"0", {4, 5, 6}, 0}}, 4);
+  EXPECT_EQ(m.row(2), Eigen::RowVector3d(1, 2, 3));
+  EXPECT_EQ(m.row(0), Eigen::RowVector3d(4, 5, 6));
+  EXPECT_TRUE(m.row(1).array().isNaN().all());
+  EXPECT_TRUE(m.row(3).array().isNaN().all());
+  // Other names: in order; a NaN position is a missing marker.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Eigen::MatrixX3d o = markersFromPoints({{"tip", {1, 1, 1}, 0}, {"F-2", {nan, 0, 0}, 0}}, 3);
+  EXPECT_EQ(o.row(0), Eigen::RowVector3d(1, 1, 1));
+  EXPECT_TRUE(o.row(1).array().isNaN().all());
+  EXPECT_EQ(markersError({{"marker_4", {0, 0, 0}, 0}}, 4),
+            "point 'marker_4': marker 4 of the scene's 4 markers (0 to 3)");
+  EXPECT_EQ(markersError({{"marker_1", {0, 0, 0}, 0}, {"1", {0, 0, 0}, 0}}, 4),
+            "point '1': marker 1 given twice");
+  EXPECT_EQ(markersError({{"a", {0, 0, 0}, 0}, {"b", {0, 0, 0}, 0}}, 1),
+            "2 points for the scene's 1 markers");
+}
+
+TEST(StepClock, StampsRoundToTheNearestStep) {
+  StepClock scene(0.02, 0.0);
+  EXPECT_EQ(scene.stepOf(0.0), 0);
+  EXPECT_EQ(scene.stepOf(0.0399), 2);
+  EXPECT_EQ(scene.stepOf(0.051), 3);
+  // A camera's clock: the first frame is step 1, whatever its stamp.
+  StepClock camera(0.02, std::nullopt);
+  EXPECT_EQ(camera.stepOf(1.7e9), 1);
+  EXPECT_EQ(camera.stepOf(1.7e9 + 0.061), 4);
+  EXPECT_NEAR(camera.stampOf(2), 1.7e9 + 0.02, 1e-6);
+}
+
+}  // namespace
+}  // namespace bcassim
