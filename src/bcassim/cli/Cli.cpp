@@ -36,6 +36,8 @@ std::vector<std::unique_ptr<Command>> allCommands() {
   commands.push_back(makeSimulateCommand());
   commands.push_back(makeAssimilateCommand());
   commands.push_back(makeValidateCommand());
+  commands.push_back(makeServeCommand());
+  commands.push_back(makeReplayCommand());
   commands.push_back(makeMeshInfoCommand());
   commands.push_back(makeTrackCommand());
   commands.push_back(makeRegisterCommand());

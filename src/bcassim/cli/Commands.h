@@ -21,6 +21,9 @@ std::unique_ptr<Command> makeLiverTrackedCommand();
 // TrackingCommands.cpp
 std::unique_ptr<Command> makeTrackCommand();
 std::unique_ptr<Command> makeRegisterCommand();
+// StreamCommands.cpp
+std::unique_ptr<Command> makeServeCommand();
+std::unique_ptr<Command> makeReplayCommand();
 // AtlasCommands.cpp
 std::unique_ptr<Command> makeAtlasDistanceCommand();
 std::unique_ptr<Command> makeAtlasRegisterCommand();

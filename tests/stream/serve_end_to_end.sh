@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# End to end on loopback: `bcassim serve` on a small phantom liver, the recorded tracks sent by
+# `bcassim replay`, and the predictions received by OpenIGTLink's own ReceiveClient (Debian's
+# openigtlink-examples, a client we did not write). Every frame must arrive, in order, equal to
+# the offline run's hidden points to 1e-6 m. Meanwhile a second client disconnects and comes
+# back, and a third sends a malformed message: each is one log line, and the server keeps
+# serving. Usage: serve_end_to_end.sh BCASSIM RECEIVE_CLIENT WORKDIR
+set -euo pipefail
+BCASSIM=$1
+CLIENT=$2
+DIR=$3
+HERE=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$DIR" && mkdir -p "$DIR" && cd "$DIR"
+STEPS=40
+
+"$BCASSIM" liver prepare phantom --out scene --coarse-nodes 600 --fine-nodes 1200 --groups 4 \
+  --steps $STEPS --observed-steps 30 --dt 0.02 > prepare.out
+"$BCASSIM" simulate scene/truth.yaml --out scene/truth -q > truth.out
+"$BCASSIM" assimilate scene/estimate.yaml --out offline -q --no-plots > offline.out
+
+"$BCASSIM" serve scene/estimate.yaml --port 0 --out served --idle-timeout 60 > serve.out 2> serve.log &
+server=$!
+trap 'kill $server 2>/dev/null || true' EXIT
+
+waitfor() {  # waitfor FILE PATTERN: up to 30 s
+  for _ in $(seq 300); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.1; done
+  echo "timed out waiting for '$2' in $1"; cat "$1" || true; exit 1
+}
+waitfor serve.out '^serving'
+port=$(sed -n 's/^serving .* on 127\.0\.0\.1:\([0-9]*\) .*/\1/p' serve.out)
+
+"$CLIENT" 127.0.0.1 "$port" > /dev/null 2> client.txt &
+client=$!
+waitfor serve.log 'client 1 connected'
+"$CLIENT" 127.0.0.1 "$port" > /dev/null 2> /dev/null &
+leaving=$!
+waitfor serve.log 'client 2 connected'
+
+# 10 Hz so that the run lasts ~4 s: the other clients come and go while it serves.
+"$BCASSIM" replay scene/truth/markers.csv --to "127.0.0.1:$port" --rate 10 > replay.out &
+replay=$!
+for _ in $(seq 300); do [ "$(wc -l < served/latency.csv 2>/dev/null || echo 0)" -gt 5 ] && break; sleep 0.05; done
+kill $leaving
+waitfor serve.log 'client 2 disconnected'
+python3 - "$port" <<'PY'
+import socket, sys
+s = socket.create_connection(("127.0.0.1", int(sys.argv[1])))
+s.sendall(b"\x7f\x01" + b"x" * 56)  # a header of no OpenIGTLink version
+s.close()
+PY
+waitfor serve.log 'the stream cannot be followed, client dropped'
+"$CLIENT" 127.0.0.1 "$port" > /dev/null 2> again.txt &
+wait $replay
+wait $server
+trap - EXIT
+wait $client
+wait
+
+cat serve.out replay.out
+grep -q 'disconnected' serve.log
+grep -q "OpenIGTLink header: version 32513 (expected 1 or 2, the protocol of libopenigtlink 1.11); the stream cannot be followed, client dropped" serve.log
+test "$(grep -c ' connected$' serve.log)" -ge 5
+# the client that came back got the frames served after it connected
+again=$(grep -c 'Receiving POINT data type.' again.txt || true)
+echo "the reconnected client received $again hidden-point messages"
+test "$again" -gt 0 && test "$again" -lt $STEPS
+python3 "$HERE/compare_received.py" client.txt offline/hidden_points.csv $STEPS
