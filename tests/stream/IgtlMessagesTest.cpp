@@ -2,6 +2,7 @@
 // float32, with their time stamp; a damaged body is refused with its one line; frames name their
 // markers or list them in order.
 #include <gtest/gtest.h>
+#include <igtl_util.h>
 
 #include <cmath>
 #include <limits>
@@ -63,6 +64,37 @@ TEST(IgtlMessages, SurfaceIsAPolyDataOfItsTriangles) {
   // The points (3 float32 each) and the polygon (count + 3 ids, uint32) are in the body.
   EXPECT_GE(h.bodySize, 3u * 12u + 16u);
   EXPECT_EQ(h.bodySize + kIgtlHeaderSize, m.size());
+  // A POLYDATA is also how a tracker may send the markers: its points come back in order.
+  const std::vector<NamedPoint> p = decodeIgtlPolyDataPoints(bytes(m), bytes(m) + kIgtlHeaderSize);
+  ASSERT_EQ(p.size(), 3u);
+  for (Eigen::Index i = 0; i < 3; ++i)
+    EXPECT_LT((p[static_cast<size_t>(i)].position - v.row(i).transpose()).norm(), 1e-9);
+}
+
+std::string polyDataError(const std::string& m) {
+  try {
+    decodeIgtlPolyDataPoints(bytes(m), bytes(m) + kIgtlHeaderSize);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(IgtlMessages, PolyDataWithADamagedBodyOrTooManyPointsIsRefused) {
+  Eigen::MatrixX3d v = Eigen::MatrixX3d::Zero(2, 3);
+  Eigen::MatrixX3i f(0, 3);
+  std::string m = encodeIgtlSurface("Tracker", 1.0, v, f);
+  std::string damaged = m;
+  damaged[kIgtlHeaderSize + 45] ^= 0x10;
+  EXPECT_EQ(polyDataError(damaged), "POLYDATA 'Tracker': the body's CRC does not match its header");
+  // 1000 points announced in a body that holds 2, with its CRC made to match.
+  m[kIgtlHeaderSize + 2] = 0x03;
+  m[kIgtlHeaderSize + 3] = static_cast<char>(0xe8);
+  const std::uint64_t crc = crc64(reinterpret_cast<unsigned char*>(m.data() + kIgtlHeaderSize),
+                                  m.size() - kIgtlHeaderSize, 0);
+  for (int i = 0; i < 8; ++i) m[static_cast<size_t>(57 - i)] = static_cast<char>(crc >> (8 * i));
+  EXPECT_EQ(polyDataError(m), "POLYDATA 'Tracker': 1000 points do not fit in its body of " +
+                                  std::to_string(m.size() - kIgtlHeaderSize) + " bytes");
 }
 
 TEST(IgtlMessages, HeaderOfAnotherVersionIsRefused) {

@@ -75,6 +75,19 @@ TEST(IgtlServer, FramesArriveInOrderAndADamagedOneIsLoggedAndSkipped) {
   EXPECT_FALSE(server.nextFrame(milliseconds(50)).has_value());
 }
 
+TEST(IgtlServer, APolyDataIsAFrameOfItsPoints) {
+  IgtlServer server("127.0.0.1", 0, {});
+  const TcpSocket client = TcpSocket::connectTo("127.0.0.1", server.port());
+  Eigen::MatrixX3d v(2, 3);
+  v << 0.01, 0.02, 0.03, -0.01, 0, 0.5;
+  send(client, encodeIgtlSurface("Tracker", 0.04, v, Eigen::MatrixX3i(0, 3)));
+  const auto f = server.nextFrame(milliseconds(5000));
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->device, "Tracker");
+  ASSERT_EQ(f->points.size(), 2u);
+  EXPECT_LT((f->points[1].position - Eigen::Vector3d(-0.01, 0, 0.5)).norm(), 1e-7);
+}
+
 TEST(IgtlServer, AClientThatLeavesAndComesBackIsServedAgain) {
   LogLines log;
   IgtlServer server("127.0.0.1", 0, log.sink());

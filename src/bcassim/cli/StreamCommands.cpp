@@ -19,14 +19,12 @@
 #include "bcassim/cli/SharedOptions.h"
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/io/OutputDirectoryLock.h"
-#include "bcassim/mesh/BoundarySurface.h"
+#include "bcassim/navigation/SceneServer.h"
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/run/OutputFiles.h"
 #include "bcassim/scene/SceneLoader.h"
-#include "bcassim/stream/IgtlMessages.h"
 #include "bcassim/stream/IgtlReplay.h"
 #include "bcassim/stream/IgtlServer.h"
-#include "bcassim/stream/StepClock.h"
 
 namespace bcassim {
 namespace {
@@ -52,143 +50,6 @@ void logLine(const std::string& line) {
   fmt::print(stderr, "serve: {}\n", line);
   std::fflush(stderr);
 }
-
-// The stream side of a served run: frames from the server to steps, predictions back.
-class ServedRun {
- public:
-  ServedRun(const Scene& scene, IgtlServer& server, std::optional<double> timeOffset,
-            double idleTimeout, bool sendSurface, const std::filesystem::path& outDir)
-      : scene_(scene),
-        server_(server),
-        clock_(scene.dt(), timeOffset),
-        idleTimeout_(idleTimeout),
-        sendSurface_(sendSurface),
-        latencyPath_(outDir / "latency.csv"),
-        latency_(openForWriting(latencyPath_)) {
-    latency_ << "step,time_s,frame_stamp_s,client,latency_ms,clients\n";
-    flushOrThrow(latency_, latencyPath_);
-    if (sendSurface_) {
-      const BoundarySurface b = extractBoundary(*scene.model.mesh);
-      surfaceNodes_ = b.nodes;
-      surfaceFaces_ = toTriMesh(*scene.model.mesh, b).F;
-    }
-  }
-
-  AssimilationStream stream() {
-    return {[this](int step) { return frame(step); },
-            [this](const StepPublication& p) { publish(p); }};
-  }
-
-  const std::vector<double>& latencyMs() const { return latencyMs_; }
-  long dropped() const { return dropped_; }
-  long frames() const { return frames_; }
-
- private:
-  struct Pending {
-    long step = 0;
-    double stamp = 0.0;
-    int client = 0;
-    Eigen::MatrixX3d markers;
-    Clock::time_point arrival;
-  };
-
-  StreamedFrame frame(int step) {
-    Clock::time_point lastFrame = Clock::now();
-    while (!pending_) {
-      if (gInterrupted) return {StreamedFrame::Kind::End, {}};
-      std::optional<ReceivedFrame> f = server_.nextFrame(std::chrono::milliseconds(200));
-      if (!f) {
-        if (idleTimeout_ > 0 &&
-            std::chrono::duration<double>(Clock::now() - lastFrame).count() > idleTimeout_) {
-          logLine(fmt::format("no frame for {:g} s (--idle-timeout); ending at step {}",
-                              idleTimeout_, step - 1));
-          return {StreamedFrame::Kind::End, {}};
-        }
-        continue;
-      }
-      lastFrame = Clock::now();
-      ++frames_;
-      take(std::move(*f), step);
-    }
-    if (pending_->step > scene_.steps) {
-      logLine(fmt::format("frame at {:.6f} s is step {}, past the scene's {} steps; ending",
-                          pending_->stamp, pending_->step, scene_.steps));
-      return {StreamedFrame::Kind::End, {}};
-    }
-    current_.reset();
-    if (pending_->step > step) return {StreamedFrame::Kind::Missing, {}};
-    current_ = std::move(pending_);
-    pending_.reset();
-    return {StreamedFrame::Kind::Observed, current_->markers};
-  }
-
-  // A received frame into pending_, unless it is malformed or for a step already done.
-  void take(ReceivedFrame f, int step) {
-    const long k = clock_.stepOf(f.time);
-    Pending p;
-    try {
-      p.markers = markersFromPoints(f.points, static_cast<int>(scene_.markers.points.size()));
-    } catch (const InputError& e) {
-      logLine(fmt::format("client {}: POINT '{}' at {:.6f} s: {}; frame skipped", f.client,
-                          f.device, f.time, e.what()));
-      ++dropped_;
-      return;
-    }
-    if (k < step) {
-      // Step 0 is the rest state, never analysed; anything else came too late or twice.
-      if (k != 0) {
-        logLine(
-            fmt::format("client {}: frame at {:.6f} s is step {}, already done (now step "
-                        "{}); frame skipped",
-                        f.client, f.time, k, step));
-        ++dropped_;
-      }
-      return;
-    }
-    p.step = k;
-    p.stamp = f.time;
-    p.client = f.client;
-    p.arrival = f.arrival;
-    pending_ = std::move(p);
-  }
-
-  void publish(const StepPublication& p) {
-    const double stamp = current_ ? current_->stamp : clock_.stampOf(p.step);
-    std::vector<NamedPoint> hidden;
-    for (size_t i = 0; i < p.hidden.size(); ++i)
-      hidden.push_back(
-          {fmt::format("hidden_{}", i), p.hidden[i].position, p.hidden[i].radius95Total});
-    std::string message = encodeIgtlPoints("bcassim_hidden", stamp, "bcassim", hidden);
-    if (sendSurface_) {
-      Eigen::MatrixX3d v(static_cast<Eigen::Index>(surfaceNodes_.size()), 3);
-      for (size_t i = 0; i < surfaceNodes_.size(); ++i)
-        v.row(static_cast<Eigen::Index>(i)) =
-            p.nodePositions->segment<3>(3 * static_cast<Eigen::Index>(surfaceNodes_[i]))
-                .transpose();
-      message += encodeIgtlSurface("bcassim_surface", stamp, v, surfaceFaces_);
-    }
-    const int clients = server_.broadcast(message);
-    if (!current_) return;
-    const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - current_->arrival).count();
-    latencyMs_.push_back(ms);
-    latency_ << fmt::format("{},{:.9g},{:.9f},{},{:.3f},{}\n", p.step, p.time, current_->stamp,
-                            current_->client, ms, clients);
-    flushOrThrow(latency_, latencyPath_);
-  }
-
-  const Scene& scene_;
-  IgtlServer& server_;
-  StepClock clock_;
-  double idleTimeout_;
-  bool sendSurface_;
-  std::vector<int> surfaceNodes_;
-  Eigen::MatrixX3i surfaceFaces_;
-  std::filesystem::path latencyPath_;
-  std::ofstream latency_;
-  std::optional<Pending> pending_, current_;
-  std::vector<double> latencyMs_;
-  long dropped_ = 0, frames_ = 0;
-};
 
 class ServeCommand : public Command {
  public:
@@ -218,18 +79,39 @@ class ServeCommand : public Command {
                                     "End the run when no frame came for this long, s (0: never)")
                          ->capture_default_str());
     app.add_flag("--no-surface", noSurface_, "Send the hidden points only, not the surface");
+    app.add_flag("--async", async_,
+                 "Answer every frame at once from a real-time model with the latest analysis; "
+                 "the filter runs behind on its own thread (one sigma-point thread)");
+    checkNonNegative(app.add_option("--filter-delay", filterDelay_,
+                                    "--async: the filter waits this long before each frame, s "
+                                    "(to see a filter slower than the camera; 0 in use)")
+                         ->capture_default_str());
+    app.add_option("--max-lag", maxLag_,
+                   "--async: frames that may wait for the filter before the oldest are skipped")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
   }
 
   int run() override {
     const io::OutputDirectoryLock lock(outDir_);
-    const Scene scene = loadScene(scenePath_);
+    Scene scene = loadScene(scenePath_);
     if (!scene.assimilation)
       throw InputError(scenePath_ + ": no assimilation: section (see docs/assimilation-format.md)");
-    std::optional<double> offset;
+    ServeOptions options;
+    options.outDir = outDir_;
+    options.idleTimeout = idleTimeout_;
+    options.sendSurface = !noSurface_;
+    options.maxLagFrames = maxLag_;
+    options.filterDelay = filterDelay_;
+    options.mode = async_ ? ServeMode::Asynchronous : ServeMode::Synchronous;
     if (timeOffset_ == "scene")
-      offset = scene.assimilation->observations.timeOffset;
-    else if (timeOffset_ != "first")
-      offset = numberOption("--time-offset", timeOffset_);
+      options.timeOffset = scene.assimilation->observations.timeOffset;
+    else if (timeOffset_ == "first")
+      options.timeOffset.reset();
+    else
+      options.timeOffset = numberOption("--time-offset", timeOffset_);
+    // The real-time model has the other core to itself.
+    if (async_) scene.assimilation->threads = 1;
 
     createOutputDirectory(outDir_);
     IgtlServer server(host_, port_, logLine);
@@ -244,21 +126,31 @@ class ServeCommand : public Command {
     gInterrupted = false;
     std::signal(SIGINT, onInterrupt);
     std::signal(SIGTERM, onInterrupt);
-    ServedRun served(scene, server, offset, idleTimeout_, !noSurface_, outDir_);
-    const AssimilationStream stream = served.stream();
-    const AssimilationResult r = runAssimilation(scene, outDir_, {}, false, &stream);
+    const ServeReport report = serveScene(scene, options, server, gInterrupted, logLine);
     server.stop();
     std::signal(SIGINT, SIG_DFL);
     std::signal(SIGTERM, SIG_DFL);
-
-    fmt::print("served {} steps ({} observed) from {} frames, {} skipped, {} client{} in all\n",
-               r.steps, r.observedSteps, served.frames(), served.dropped(), server.clientsEver(),
-               server.clientsEver() == 1 ? "" : "s");
+    const AssimilationResult& r = report.assimilation;
+    fmt::print("served {} steps ({} observed) from {} frames, {} refused, {} client{} in all\n",
+               r.steps, r.observedSteps, report.framesReceived, report.framesRefused,
+               server.clientsEver(), server.clientsEver() == 1 ? "" : "s");
     for (const ParameterResult& p : r.parameters)
       fmt::print("  {:<14} {:.6g} ± {:.3g}\n", p.name, p.mean, p.stddev);
-    fmt::print("latency (frame arrival -> prediction sent): {}\n", latencyLine(served.latencyMs()));
-    fmt::print("filter: median {:.3g} ms/step (mean {:.3g}) -> {}\n", r.medianStepMs, r.meanStepMs,
-               outDir_);
+    fmt::print("latency (frame arrival -> prediction sent): {}\n", latencyLine(report.latencyMs));
+    if (options.mode == ServeMode::Asynchronous) {
+      const std::vector<double> lag(report.lagFrames.begin(), report.lagFrames.end());
+      fmt::print(
+          "asynchronous: real-time step p50 {:.1f} ms, p99 {:.1f} ms; filter lag p50 {:.0f}, p99 "
+          "{:.0f}, max {:.0f} frames; {} frames skipped by the filter on purpose\n",
+          percentile(report.realTimeMs, 50), percentile(report.realTimeMs, 99), percentile(lag, 50),
+          percentile(lag, 99), percentile(lag, 100), report.framesSkippedByFilter);
+    }
+    // The frame period over the filter's mean step: above 1, the filter keeps up with the camera.
+    const double factor = r.meanStepMs > 0 ? 1e3 * report.framePeriodS / r.meanStepMs : 0.0;
+    fmt::print(
+        "filter: median {:.3g} ms/step (mean {:.3g}), real-time factor {:.2f} at {:.3g} Hz -> {}\n",
+        r.medianStepMs, r.meanStepMs, factor,
+        report.framePeriodS > 0 ? 1.0 / report.framePeriodS : 0.0, options.outDir);
     return 0;
   }
 
@@ -274,8 +166,9 @@ class ServeCommand : public Command {
 
   std::string scenePath_, outDir_ = "out/serve", host_ = "127.0.0.1", timeOffset_ = "scene";
   int port_ = 18944;
-  double idleTimeout_ = 0.0;
-  bool noSurface_ = false;
+  double idleTimeout_ = 0.0, filterDelay_ = 0.0;
+  bool noSurface_ = false, async_ = false;
+  int maxLag_ = 8;
 };
 
 class ReplayCommand : public Command {

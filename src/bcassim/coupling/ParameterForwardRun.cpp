@@ -28,6 +28,12 @@ void ParameterForwardRun::step() {
   state_.t = steps_ * dt_;  // as the simulate runner: no drift from summing dt
 }
 
+void ParameterForwardRun::setValues(const std::vector<EstimatedParameter>& parameters,
+                                    const Eigen::VectorXd& values) {
+  for (size_t i = 0; i < parameters.size(); ++i)
+    applyParameter(parameters[i].target, values(static_cast<Eigen::Index>(i)), model_);
+}
+
 void ParameterForwardRun::restore(const MechanicalState& state, int steps) {
   state_ = state;
   steps_ = steps;

@@ -17,6 +17,9 @@ class ParameterForwardRun {
   // One implicit-Euler step, or with a static scene the equilibrium of the next step's time;
   // throws NumericalError if it diverges.
   void step();
+  // New values of the parameters from the next step on (the live real-time model adopts each
+  // analysis this way); the state is kept.
+  void setValues(const std::vector<EstimatedParameter>& parameters, const Eigen::VectorXd& values);
   // Positions of mapped points in the current state, m.
   Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
   double time() const { return state_.t; }

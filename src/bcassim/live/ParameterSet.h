@@ -12,6 +12,12 @@ struct ParameterSet {
   Eigen::MatrixXd covariance;
   // Index of the frame the filter analysed last; -1 for the prior (no frame analysed yet).
   long frame = -1;
+  // The analysed model state these parameters go with (the filter's layout, e.g. positions then
+  // velocities), for a real-time model to continue from; empty when there is none.
+  Eigen::VectorXd state;
+  // What else the filter publishes for displays (e.g. hidden points' 95 % radii, m); the engine
+  // never reads it.
+  Eigen::VectorXd extras;
 };
 
 // Throws InputError unless `set` has a non-empty mean and an n by n covariance, n = its mean's

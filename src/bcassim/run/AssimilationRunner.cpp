@@ -542,8 +542,10 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
         files.hidden ? predictHiddenPoints(scene, *setup.models[0], *setup.filter,
                                            loop.modelError.variance(s.observations.sigma))
                      : std::vector<HiddenPointPrediction>();
-    if (stream && stream->publish)
-      stream->publish({step, time, hidden, &setup.models[0]->reference().x});
+    if (stream && stream->publish) {
+      const MechanicalState& m = setup.models[0]->reference();
+      stream->publish({step, time, hidden, &m.x, &m.v, mean, sd});
+    }
     if (files.hidden) files.hidden->add(step, time, hidden);
   }
   const Clock::time_point v0 = Clock::now();

@@ -30,7 +30,12 @@ struct StepPublication {
   int step = 0;
   double time = 0.0;  // s, the scene's time of the step
   std::vector<HiddenPointPrediction> hidden;
-  const Eigen::VectorXd* nodePositions = nullptr;  // 3 #nodes, m: valid during the call only
+  // The model following the filter's mean: positions (3 #nodes, m) and velocities (3 #nodes,
+  // m/s; empty for a static scene). Valid during the call only.
+  const Eigen::VectorXd* nodePositions = nullptr;
+  const Eigen::VectorXd* nodeVelocities = nullptr;
+  // The estimated parameters' mean and standard deviation (physical units, e.g. N/m).
+  Eigen::VectorXd parameterMean, parameterStddev;
 };
 
 struct AssimilationStream {

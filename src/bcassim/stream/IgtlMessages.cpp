@@ -5,6 +5,7 @@
 #include <igtlPointMessage.h>
 #include <igtlPolyDataMessage.h>
 #include <igtl_point.h>
+#include <igtl_util.h>
 
 #include <cmath>
 #include <cstring>
@@ -92,6 +93,40 @@ std::vector<NamedPoint> decodeIgtlPoints(const unsigned char* header, const unsi
     points[i].position = Eigen::Vector3d(p[0], p[1], p[2]) / kMmPerM;
     points[i].radius = e->GetRadius() / kMmPerM;
   }
+  return points;
+}
+
+std::vector<NamedPoint> decodeIgtlPolyDataPoints(const unsigned char* header,
+                                                 const unsigned char* body) {
+  // Read here rather than by the library's unpacking, which trusts the body's counts: the CRC,
+  // then the point count (first of ten big-endian uint32 counts) and the float32 points.
+  const IgtlHeader h = decodeIgtlHeader(header);
+  std::uint64_t crc = 0;
+  for (int i = 50; i < 58; ++i) crc = crc << 8 | header[i];
+  if (crc64(const_cast<unsigned char*>(body), h.bodySize, 0) != crc)
+    throw InputError(
+        fmt::format("POLYDATA '{}': the body's CRC does not match its header", h.device));
+  const auto uint32At = [&](std::uint64_t at) {
+    return static_cast<std::uint32_t>(body[at]) << 24 |
+           static_cast<std::uint32_t>(body[at + 1]) << 16 |
+           static_cast<std::uint32_t>(body[at + 2]) << 8 | body[at + 3];
+  };
+  constexpr std::uint64_t kCounts = 40;
+  if (h.bodySize < kCounts)
+    throw InputError(fmt::format("POLYDATA '{}': body of {} bytes, shorter than its {}-byte header",
+                                 h.device, h.bodySize, kCounts));
+  const std::uint64_t n = uint32At(0);
+  if (h.bodySize < kCounts + 12 * n)
+    throw InputError(fmt::format("POLYDATA '{}': {} points do not fit in its body of {} bytes",
+                                 h.device, n, h.bodySize));
+  std::vector<NamedPoint> points(n);
+  for (std::uint64_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t bits = uint32At(kCounts + 12 * i + 4 * static_cast<std::uint64_t>(c));
+      float v = 0;
+      std::memcpy(&v, &bits, sizeof v);
+      points[i].position(c) = v / kMmPerM;
+    }
   return points;
 }
 

@@ -37,6 +37,12 @@ struct NamedPoint {
 // InputError naming the device for a failed CRC or a body that is not whole elements.
 std::vector<NamedPoint> decodeIgtlPoints(const unsigned char* header, const unsigned char* body);
 
+// The points of a POLYDATA message's body (its cells and attributes are ignored), in order and
+// unnamed. Throws InputError naming the device for a failed CRC or a body shorter than its
+// points.
+std::vector<NamedPoint> decodeIgtlPolyDataPoints(const unsigned char* header,
+                                                 const unsigned char* body);
+
 // A POINT message: device name, time stamp (s), group name shown by 3D Slicer, and the points.
 std::string encodeIgtlPoints(const std::string& device, double time, const std::string& group,
                              const std::vector<NamedPoint>& points);

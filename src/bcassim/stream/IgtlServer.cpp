@@ -143,10 +143,11 @@ bool IgtlServer::consumeMessages(Client& c) {
       break;
     }
     if (c.buffer.size() - at < kIgtlHeaderSize + h.bodySize) break;  // the rest is on its way
-    if (h.type == "POINT") {
+    if (h.type == "POINT" || h.type == "POLYDATA") {
       try {
         ReceivedFrame f;
-        f.points = decodeIgtlPoints(header, header + kIgtlHeaderSize);
+        f.points = h.type == "POINT" ? decodeIgtlPoints(header, header + kIgtlHeaderSize)
+                                     : decodeIgtlPolyDataPoints(header, header + kIgtlHeaderSize);
         f.device = h.device;
         f.time = h.time;
         f.arrival = std::chrono::steady_clock::now();
@@ -160,8 +161,8 @@ bool IgtlServer::consumeMessages(Client& c) {
         say(fmt::format("client {}: {}; message skipped", c.id, e.what()));
       }
     } else {
-      say(fmt::format("client {}: {} message '{}' ignored (bcassim reads POINT)", c.id, h.type,
-                      h.device));
+      say(fmt::format("client {}: {} message '{}' ignored (bcassim reads POINT and POLYDATA)", c.id,
+                      h.type, h.device));
     }
     at += kIgtlHeaderSize + h.bodySize;
   }

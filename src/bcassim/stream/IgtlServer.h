@@ -1,8 +1,8 @@
 // An OpenIGTLink server for navigation software (3D Slicer's OpenIGTLinkIF, PLUS, a tracker
-// bridge): any number of clients connect and go; POINT messages from any of them are tracked
-// frames, queued with their arrival time; what the caller sends goes to every client. A client
-// that sends a malformed message or stops reading is logged in one line (and, when the stream
-// cannot be resynchronised, dropped); the server keeps serving. A network thread reads; the
+// bridge): any number of clients connect and go; POINT and POLYDATA messages from any of them are
+// tracked frames, queued with their arrival time; what the caller sends goes to every client. A
+// client that sends a malformed message or stops reading is logged in one line (and, when the
+// stream cannot be resynchronised, dropped); the server keeps serving. A network thread reads; the
 // caller's thread takes frames and sends.
 #pragma once
 #include <chrono>
@@ -23,7 +23,7 @@
 namespace bcassim {
 
 struct ReceivedFrame {
-  std::string device;  // the POINT message's device name
+  std::string device;  // the POINT or POLYDATA message's device name
   double time = 0.0;   // its time stamp, s
   std::vector<NamedPoint> points;
   std::chrono::steady_clock::time_point arrival;  // when its last byte was read

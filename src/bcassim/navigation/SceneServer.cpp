@@ -1,0 +1,262 @@
+// The synchronous loop (the runner asks for each step's frame and answers it) and the
+// asynchronous one (frames pushed through a LiveEngine: a real-time model answers each at once;
+// the engine's filter thread hands frames to the runner, which runs on a thread of its own).
+#include "bcassim/navigation/SceneServer.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "bcassim/Error.h"
+#include "bcassim/Stopwatch.h"
+#include "bcassim/live/LiveEngine.h"
+#include "bcassim/navigation/FrameIntake.h"
+#include "bcassim/navigation/FramePublisher.h"
+#include "bcassim/navigation/RealTimeModel.h"
+
+namespace bcassim {
+
+namespace {
+
+ServeReport serveSynchronously(const Scene& scene, const ServeOptions& o, IgtlServer& server,
+                               FrameIntake& intake) {
+  FramePublisher publisher(server, *scene.model.mesh, o.sendSurface, o.outDir);
+  std::optional<IntakeFrame> pending, current;
+  AssimilationStream stream;
+  stream.frame = [&](int step) {
+    current.reset();
+    if (!pending) {
+      pending = intake.next(step - 1);
+      if (!pending) return StreamedFrame{StreamedFrame::Kind::End, {}};
+    }
+    if (pending->step > step) return StreamedFrame{};
+    current = std::move(pending);
+    pending.reset();
+    return StreamedFrame{StreamedFrame::Kind::Observed, current->markers};
+  };
+  stream.publish = [&](const StepPublication& p) {
+    std::optional<AnsweredFrame> answered;
+    if (current)
+      answered = AnsweredFrame{current->step, current->stamp, current->client, current->arrival};
+    publisher.publish(p.step, p.time, current ? current->stamp : intake.stampOf(p.step), p.hidden,
+                      *p.nodePositions, answered);
+  };
+  ServeReport report;
+  report.assimilation = runAssimilation(scene, o.outDir, {}, false, &stream);
+  report.latencyMs = publisher.latencyMs();
+  report.lagFrames.assign(report.latencyMs.size(), 0);
+  return report;
+}
+
+// What passes between the engine's filter thread and the runner's thread: one frame at a time,
+// and the analysis of it back.
+class RunnerHandoff {
+ public:
+  // Filter thread: hands over the frame of `step` and waits for its analysis.
+  ParameterSet analyse(long step, Eigen::MatrixX3d markers) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    frame_ = std::make_pair(step, std::move(markers));
+    result_.reset();
+    changed_.notify_all();
+    changed_.wait(lock, [&] { return result_.has_value() || failure_ || ended_; });
+    if (failure_) std::rethrow_exception(failure_);
+    if (!result_)
+      throw NumericalError("live filter: the assimilation ended before step " +
+                           std::to_string(step));
+    return std::move(*result_);
+  }
+
+  // Runner thread: the frame for `step`, a step without one, or the end.
+  StreamedFrame frame(long step) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return frame_.has_value() || stop_; });
+    if (!frame_) return {StreamedFrame::Kind::End, {}};
+    if (frame_->first > step) return {};
+    observedStep_ = step;
+    StreamedFrame out{StreamedFrame::Kind::Observed, std::move(frame_->second)};
+    frame_.reset();
+    return out;
+  }
+
+  // Runner thread: the step's analysis, for the frame waiting on it.
+  void published(const StepPublication& p) {
+    if (p.step != observedStep_) return;
+    ParameterSet set;
+    set.mean = p.parameterMean;
+    set.covariance = p.parameterStddev.array().square().matrix().asDiagonal();
+    set.state.resize(p.nodePositions->size() + p.nodeVelocities->size());
+    set.state << *p.nodePositions, *p.nodeVelocities;
+    set.extras.resize(static_cast<Eigen::Index>(p.hidden.size()));
+    for (size_t i = 0; i < p.hidden.size(); ++i)
+      set.extras(static_cast<Eigen::Index>(i)) = p.hidden[i].radius95Total;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    result_ = std::move(set);
+    changed_.notify_all();
+  }
+
+  void stop() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+    changed_.notify_all();
+  }
+  // Runner thread, at its end: wakes a filter step still waiting.
+  void ended(std::exception_ptr failure) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    ended_ = true;
+    failure_ = failure;
+    changed_.notify_all();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::optional<std::pair<long, Eigen::MatrixX3d>> frame_;
+  std::optional<ParameterSet> result_;
+  long observedStep_ = -1;  // runner thread only
+  bool stop_ = false, ended_ = false;
+  std::exception_ptr failure_;
+};
+
+Eigen::VectorXd flatten(const Eigen::MatrixX3d& m) {
+  Eigen::VectorXd v(3 * m.rows());
+  for (Eigen::Index i = 0; i < m.rows(); ++i) v.segment<3>(3 * i) = m.row(i).transpose();
+  return v;
+}
+
+Eigen::MatrixX3d unflatten(const Eigen::VectorXd& v) {
+  Eigen::MatrixX3d m(v.size() / 3, 3);
+  for (Eigen::Index i = 0; i < m.rows(); ++i) m.row(i) = v.segment<3>(3 * i).transpose();
+  return m;
+}
+
+// Model steps the real-time side re-runs at most to continue from an analysed state.
+constexpr long kCatchUpSteps = 2;
+
+ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o, IgtlServer& server,
+                                FrameIntake& intake, const std::atomic<bool>& interrupted) {
+  const AssimilationSettings& s = *scene.assimilation;
+  FramePublisher publisher(server, *scene.model.mesh, o.sendSurface, o.outDir);
+  RealTimeModel model(scene);
+  const Eigen::Index nodes3 = model.positions().size();
+
+  RunnerHandoff handoff;
+  AssimilationStream stream;
+  stream.frame = [&](int step) { return handoff.frame(step); };
+  stream.publish = [&](const StepPublication& p) { handoff.published(p); };
+  ServeReport report;
+  std::exception_ptr runnerFailure;
+  std::thread runner([&] {
+    try {
+      report.assimilation = runAssimilation(scene, o.outDir, {}, false, &stream);
+    } catch (...) {
+      runnerFailure = std::current_exception();
+    }
+    handoff.ended(runnerFailure);
+  });
+
+  // The real-time side: frames numbered as pushed; the step and arrival of each, read back by
+  // the real-time step on this same thread.
+  std::vector<long> stepOfFrame;
+  std::optional<IntakeFrame> showing;
+  long adopted = -2;
+  Eigen::VectorXd radii =
+      Eigen::VectorXd::Zero(static_cast<Eigen::Index>(scene.hidden.points.size()));
+  ParameterSet prior;
+  prior.mean.resize(static_cast<Eigen::Index>(s.parameters.size()));
+  prior.covariance = Eigen::MatrixXd::Zero(prior.mean.size(), prior.mean.size());
+  for (size_t i = 0; i < s.parameters.size(); ++i) {
+    prior.mean(static_cast<Eigen::Index>(i)) = s.parameters[i].mean;
+    prior.covariance(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) =
+        s.parameters[i].stddev * s.parameters[i].stddev;
+  }
+  const RealTimeStep realTime = [&](const Frame& frame, const ParameterSet& p) {
+    if (p.frame != adopted && p.frame >= 0) {
+      // The analysed state when catching up from it is cheap; further behind, the parameters
+      // only: re-running the lag every frame would make the real-time side as slow as the filter.
+      const long analysedStep = stepOfFrame[static_cast<size_t>(p.frame)];
+      if (showing->step - analysedStep <= kCatchUpSteps)
+        model.adopt(p.mean, p.state.head(nodes3), p.state.tail(p.state.size() - nodes3),
+                    static_cast<int>(analysedStep));
+      else
+        model.adoptParameters(p.mean);
+      radii = p.extras;
+    }
+    adopted = p.frame;
+    model.advanceTo(static_cast<int>(showing->step));
+    const Eigen::MatrixX3d at = model.hiddenPositions();
+    std::vector<HiddenPointPrediction> hidden(static_cast<size_t>(at.rows()));
+    for (Eigen::Index i = 0; i < at.rows(); ++i) {
+      hidden[static_cast<size_t>(i)].position = at.row(i).transpose();
+      hidden[static_cast<size_t>(i)].radius95Total = radii(i);
+    }
+    const long lag = frame.index - 1 - p.frame;
+    publisher.publish(
+        showing->step, static_cast<double>(showing->step) * scene.dt(), showing->stamp, hidden,
+        model.positions(),
+        AnsweredFrame{showing->step, showing->stamp, showing->client, showing->arrival}, lag);
+    report.lagFrames.push_back(lag);
+  };
+  const FilterStep filter = [&](const Frame& frame) {
+    if (o.filterDelay > 0)
+      std::this_thread::sleep_for(std::chrono::duration<double>(o.filterDelay));
+    return handoff.analyse(std::lround(frame.time / scene.dt()), unflatten(frame.observations));
+  };
+  LiveOptions live;
+  live.mode = LiveMode::Asynchronous;
+  live.maxLagFrames = o.maxLagFrames;
+  std::optional<LiveEngine> engine;
+  try {
+    engine.emplace(prior, realTime, filter, live);
+    long done = 0;
+    while (done < scene.steps && (showing = intake.next(done))) {
+      stepOfFrame.push_back(showing->step);
+      done = showing->step;
+      engine->push(Frame{static_cast<long>(stepOfFrame.size()) - 1,
+                         static_cast<double>(showing->step) * scene.dt(),
+                         flatten(showing->markers)});
+    }
+    // The stream's end lets the filter finish the frames waiting; an interrupt does not.
+    const LiveSummary summary =
+        engine->finish(interrupted ? FinishMode::DropWaiting : FinishMode::Drain);
+    report.framesSkippedByFilter = summary.skipped;
+    for (const FrameRecord& r : engine->records())
+      report.realTimeMs.push_back(1e3 * r.publishSeconds);
+  } catch (...) {
+    handoff.stop();
+    runner.join();
+    throw;
+  }
+  handoff.stop();
+  runner.join();
+  if (runnerFailure) std::rethrow_exception(runnerFailure);
+  report.latencyMs = publisher.latencyMs();
+  return report;
+}
+
+}  // namespace
+
+ServeReport serveScene(const Scene& scene, const ServeOptions& options, IgtlServer& server,
+                       const std::atomic<bool>& interrupted,
+                       const std::function<void(const std::string&)>& log) {
+  if (!scene.assimilation)
+    throw InputError(scene.sourceFile +
+                     ": no assimilation: section (see docs/assimilation-format.md)");
+  if (options.maxLagFrames < 1)
+    throw InputError(fmt::format("--max-lag {}: expected at least 1 frame", options.maxLagFrames));
+  FrameIntake intake(scene, server, options.timeOffset, options.idleTimeout, interrupted, log);
+  ServeReport report = options.mode == ServeMode::Synchronous
+                           ? serveSynchronously(scene, options, server, intake)
+                           : serveAsynchronously(scene, options, server, intake, interrupted);
+  report.framesReceived = intake.received();
+  report.framesRefused = intake.skipped();
+  report.framePeriodS = intake.medianFramePeriod();
+  return report;
+}
+
+}  // namespace bcassim
