@@ -130,6 +130,7 @@ AssimilationProgress progressAt(int step, const Scene& scene, Clock::time_point 
 
 // The markers of `step` from the scene's tracks file; null when the file has no frame there.
 const Eigen::MatrixX3d* trackedFrameAt(const ObservationSettings& o, int step) {
+  if (o.pointCloud) return nullptr;  // a point cloud's frames are read by cloudObservationAt
   return o.tracks.present[static_cast<size_t>(step)] ? &o.tracks.frames[static_cast<size_t>(step)]
                                                      : nullptr;
 }
