@@ -31,5 +31,19 @@ if [ -z "${DISPLAY:-}" ]; then
 fi
 mkdir -p out
 "${RUN[@]}" liver run "$LIVER" --out out/liver --fine-nodes 5000 --steps 250 --observed-steps 200
+
+# Live: the same estimation served over OpenIGTLink in the asynchronous mode, its truth tracks
+# replayed at 30 Hz as a camera would send them (docs/live.md).
+echo "bcassim demo: live, the estimation served over OpenIGTLink (bcassim serve --async), the tracks replayed at 30 Hz:"
+rm -rf out/liver/served
+"$BUILD/bcassim" serve out/liver/estimate.yaml --async --port 0 --out out/liver/served \
+  --idle-timeout 30 > out/liver/serve.out 2> out/liver/serve.log &
+server=$!
+for _ in $(seq 600); do grep -q '^serving' out/liver/serve.out 2>/dev/null && break; sleep 0.1; done
+port=$(sed -n 's/^serving .* on 127\.0\.0\.1:\([0-9]*\) .*/\1/p' out/liver/serve.out)
+"$BUILD/bcassim" replay out/liver/truth/markers.csv --to "127.0.0.1:$port" --rate 30 > out/liver/replay.out
+wait $server
+grep -E '^(latency|asynchronous|filter)' out/liver/serve.out | sed 's/^/  /'
+echo "  to watch it in 3D Slicer: docs/live.md (bcassim serve + Slicer's OpenIGTLinkIF)"
 echo "bcassim demo: picture out/liver/liver.png; plots out/liver/*.png and out/liver/estimate/*.png;"
 echo "  open out/liver/truth/simulation.pvd and out/liver/estimated/simulation.pvd in ParaView."
