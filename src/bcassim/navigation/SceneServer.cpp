@@ -12,6 +12,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
 
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
@@ -36,8 +37,7 @@ ServeReport serveSynchronously(const Scene& scene, const ServeOptions& o, IgtlSe
       if (!pending) return StreamedFrame{StreamedFrame::Kind::End, {}};
     }
     if (pending->step > step) return StreamedFrame{};
-    current = std::move(pending);
-    pending.reset();
+    current.swap(pending);  // pending is empty again
     return StreamedFrame{StreamedFrame::Kind::Observed, current->markers};
   };
   stream.publish = [&](const StepPublication& p) {
@@ -109,7 +109,7 @@ class RunnerHandoff {
   void ended(std::exception_ptr failure) {
     const std::lock_guard<std::mutex> lock(mutex_);
     ended_ = true;
-    failure_ = failure;
+    failure_ = std::move(failure);
     changed_.notify_all();
   }
 
