@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 
+#include "bcassim/coupling/FreeRunModelError.h"
 #include "bcassim/coupling/InnovationModelError.h"
 #include "bcassim/coupling/PointUncertainty.h"
 #include "bcassim/experiments/liver/LiverPhantom.h"
@@ -70,6 +71,30 @@ TEST(InnovationModelError, RecoversTheExcessVarianceOfTheInnovations) {
   // 4.7e-9 m^2 on sigma^2 + q = 6.5e-7; allow 5 standard errors.
   EXPECT_NEAR(e.variance(sigma), q, 2.4e-8);
   EXPECT_EQ(e.variance(1.0), 0.0);
+}
+
+// Markers displaced 2 mm from rest on every coordinate while observed: a model error of q per
+// coordinate is a relative error rho^2 = q / (2 mm)^2. A hidden point then moving 3 mm and 4 mm
+// in two free steps (a 7 mm path, even though it ends 5 mm away) gains rho^2 (7 mm)^2 / 3; a
+// still one gains nothing; an observed step starts again from nothing.
+TEST(FreeRunModelError, GrowsWithThePathMovedSinceTheLastObservation) {
+  const double q = 1e-6;
+  FreeRunModelError f;
+  const Eigen::MatrixX3d markers = Eigen::MatrixX3d::Constant(4, 3, 2e-3);
+  Eigen::MatrixX3d hidden = Eigen::MatrixX3d::Zero(2, 3);
+  EXPECT_EQ(f.relativeVariance(q), 0.0);
+  for (int k = 0; k < 3; ++k) f.add(true, markers, hidden);
+  EXPECT_DOUBLE_EQ(f.relativeVariance(q), q / 4e-6);
+  EXPECT_EQ(f.growth(q), Eigen::VectorXd::Zero(2));
+  hidden(0, 0) = 3e-3;
+  f.add(false, markers, hidden);
+  hidden(0, 1) = 4e-3;
+  f.add(false, markers, hidden);
+  const Eigen::VectorXd g = f.growth(q);
+  EXPECT_NEAR(g(0), q / 4e-6 * 49e-6 / 3, 1e-18);
+  EXPECT_EQ(g(1), 0.0);
+  f.add(true, markers, hidden);
+  EXPECT_EQ(f.growth(q), Eigen::VectorXd::Zero(2));
 }
 
 TEST(TimeProfile, HalfSinePushesOneWayOnly) {
@@ -242,10 +267,10 @@ std::vector<double> estimatedMeans(const std::filesystem::path& csv) {
 // Issue 15 point 2: with the stiffnesses bounded (bounded-log) and walking at random, the
 // estimates never leave their bounds, the tumours' radius due to the parameters ends the free run
 // wider than with constant stiffnesses, and the accuracy is that of the former set-up (log
-// transform, constant stiffnesses) run beside it on the same truth, within 10 %. The radius does
-// not grow every step (it follows the loads, which move the tumours more or less per unit of
-// stiffness, and the model error estimated from the innovations, fixed once they stop, dominates
-// it): the figures are printed, not asserted.
+// transform, constant stiffnesses) run beside it on the same truth, within 10 %. Once the
+// observations stop, the total radius never shrinks (the model error grows with the path each
+// tumour moves, FreeRunModelError) and holds the true tumour in at least 90 % of the free run's
+// frames.
 TEST(LiverPipeline, BoundedRandomWalkKeepsAccuracyAndWidensTheParametersRadius) {
   const auto dir = freshDir();
   LiverScenarioOptions o = smallPhantom();
@@ -276,6 +301,7 @@ TEST(LiverPipeline, BoundedRandomWalkKeepsAccuracyAndWidensTheParametersRadius) 
       if (w.totalRadius[k][i] < w.totalRadius[k][i - 1]) ++shrinking;
     std::cout << "[ phantom ] tumour " << k << ": total radius smaller than the step before on "
               << shrinking << " of " << w.radius[k].size() - 1 << " free steps\n";
+    EXPECT_EQ(shrinking, 0) << "tumour " << k;
     std::cout << "[ phantom ] tumour " << k << " radius (parameters) at the last observation "
               << 1e3 * w.radius[k].front() << " mm, end " << 1e3 * w.radius[k].back()
               << " mm; without the walk " << 1e3 * c.radius[k].front() << " -> "

@@ -46,6 +46,10 @@ void writeAssimilationCheckpoint(const std::string& path, const std::string& key
   out.number(c.observedSteps);
   out.number(c.tangentFailures);
   out.matrix(c.parameters);
+  out.number(c.motionSumSquares);
+  out.number(static_cast<double>(c.motionEntries));
+  out.matrix(c.freeRunPath);
+  out.matrix(c.freeRunLast);
   out.commit();
 }
 
@@ -69,6 +73,10 @@ AssimilationCheckpoint readAssimilationCheckpoint(const std::string& path, const
   c.observedSteps = static_cast<int>(in.number());
   c.tangentFailures = static_cast<int>(in.number());
   c.parameters = in.matrix();
+  c.motionSumSquares = in.number();
+  c.motionEntries = static_cast<long>(in.number());
+  c.freeRunPath = in.matrix();
+  c.freeRunLast = in.matrix();
   return c;
 }
 

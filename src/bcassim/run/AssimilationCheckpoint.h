@@ -21,6 +21,10 @@ struct AssimilationCheckpoint {
   std::string rng;                  // std::mt19937_64 state of the observation noise
   double innovationSumSquares = 0;  // InnovationModelError
   long innovationEntries = 0;
+  // FreeRunModelError: marker motion while observed, hidden points' path since then.
+  double motionSumSquares = 0;
+  long motionEntries = 0;
+  Eigen::MatrixXd freeRunPath, freeRunLast;
   std::vector<double> stepMs;  // wall time of every step so far
   int observedSteps = 0, tangentFailures = 0;
   Eigen::MatrixXd parameters;  // last reported mean and stddev of each parameter (P x 2)

@@ -21,6 +21,7 @@
 #include "bcassim/assimilation/RoukfFilter.h"
 #include "bcassim/assimilation/ThreadPoolExecutor.h"
 #include "bcassim/assimilation/UkfFilter.h"
+#include "bcassim/coupling/FreeRunModelError.h"
 #include "bcassim/coupling/InnovationModelError.h"
 #include "bcassim/coupling/MechanicalForecastModel.h"
 #include "bcassim/coupling/ParameterForwardRun.h"
@@ -386,6 +387,7 @@ struct FilterLoopState {
   int firstStep = 1;
   std::mt19937_64 rng;  // observation noise
   InnovationModelError modelError;
+  FreeRunModelError freeRun;
   // With validation tracks: the forward run with the initial parameters, for comparison.
   std::unique_ptr<ParameterForwardRun> initialRun;
   std::vector<double> stepMs;  // wall time of each filter step
@@ -415,7 +417,11 @@ FilterLoopState startFromPrior(const Scene& scene, const AssimilationSetup& setu
   files.estimates->write(0, 0.0, mean.tail(layout.parameterCount()),
                          sd.tail(layout.parameterCount()));
   if (files.hidden)
-    files.hidden->add(0, 0.0, predictHiddenPoints(scene, *setup.models[0], *setup.filter, 0.0));
+    files.hidden->add(
+        0, 0.0,
+        predictHiddenPoints(
+            scene, *setup.models[0], *setup.filter,
+            Eigen::VectorXd::Zero(static_cast<Eigen::Index>(scene.hidden.points.size()))));
   return loop;
 }
 
@@ -437,6 +443,11 @@ FilterLoopState resumeFromCheckpoint(const Scene& scene, AssimilationSetup& setu
   if (files.validation) files.validation->restore(c.errorSummaries);
   std::istringstream(c.rng) >> loop.rng;
   loop.modelError.restore(c.innovationSumSquares, c.innovationEntries);
+  if (c.freeRunLast.size() > 0 && c.freeRunLast.cols() != 3)
+    throw InputError(files.checkpointPath + ": damaged (hidden points' free-run positions)");
+  loop.freeRun.restore(c.motionSumSquares, c.motionEntries, c.freeRunPath.reshaped(),
+                       c.freeRunLast.size() > 0 ? Eigen::MatrixX3d(c.freeRunLast)
+                                                : Eigen::MatrixX3d());
   loop.stepMs = c.stepMs;
   loop.result.observedSteps = c.observedSteps;
   loop.result.tangentFailures = c.tangentFailures;
@@ -467,6 +478,13 @@ void writeCheckpoint(int step, const AssimilationSetup& setup, const Assimilatio
   c.rng = generator.str();
   c.innovationSumSquares = loop.modelError.sumSquares();
   c.innovationEntries = loop.modelError.entries();
+  c.motionSumSquares = loop.freeRun.sumSquares();
+  c.motionEntries = loop.freeRun.entries();
+  // Without hidden points both are empty: kept 0 x 0, the archive's empty matrix.
+  if (loop.freeRun.last().size() > 0) {
+    c.freeRunPath = loop.freeRun.path();
+    c.freeRunLast = loop.freeRun.last();
+  }
   c.stepMs = loop.stepMs;
   c.observedSteps = loop.result.observedSteps;
   c.tangentFailures = loop.result.tangentFailures;
@@ -539,9 +557,18 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
   // The hidden points first, and published at once: a live display waits for nothing else.
   loop.modelError.add(report.innovationNorm, static_cast<long>(report.observed));
   if (files.hidden || (stream && stream->publish)) {
+    const MechanicalForecastModel& meanModel = *setup.models[0];
+    const double q = loop.modelError.variance(s.observations.sigma);
+    Eigen::VectorXd variance =
+        Eigen::VectorXd::Constant(static_cast<Eigen::Index>(scene.hidden.points.size()), q);
+    if (files.hidden) {
+      loop.freeRun.add(report.observed > 0,
+                       meanModel.positionsOf(scene.markers.points) - scene.markers.rest,
+                       meanModel.positionsOf(scene.hidden.points));
+      if (s.observations.modelErrorGrows) variance += loop.freeRun.growth(q);
+    }
     const std::vector<HiddenPointPrediction> hidden =
-        files.hidden ? predictHiddenPoints(scene, *setup.models[0], *setup.filter,
-                                           loop.modelError.variance(s.observations.sigma))
+        files.hidden ? predictHiddenPoints(scene, meanModel, *setup.filter, variance)
                      : std::vector<HiddenPointPrediction>();
     if (stream && stream->publish) {
       const MechanicalState& m = setup.models[0]->reference();

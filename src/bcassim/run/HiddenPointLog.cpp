@@ -13,7 +13,7 @@ namespace bcassim {
 std::vector<HiddenPointPrediction> predictHiddenPoints(const Scene& scene,
                                                        const MechanicalForecastModel& mean,
                                                        const Filter& filter,
-                                                       double modelErrorVariance) {
+                                                       const Eigen::VectorXd& modelErrorVariance) {
   const Eigen::MatrixX3d p = mean.positionsOf(scene.hidden.points);
   const std::vector<PointUncertainty> u =
       pointUncertainty(*scene.model.mesh, scene.hidden.points, filter.covarianceFactor());
@@ -23,10 +23,10 @@ std::vector<HiddenPointPrediction> predictHiddenPoints(const Scene& scene,
     h.position = p.row(static_cast<Eigen::Index>(i)).transpose();
     h.sigma = u[i].sigma;
     h.radius95 = u[i].radius95;
-    h.modelErrorSigma = std::sqrt(modelErrorVariance);
+    const double q = modelErrorVariance(static_cast<Eigen::Index>(i));
+    h.modelErrorSigma = std::sqrt(q);
     // sqrt(chi2 (lambda_max + q)) with radius95 = sqrt(chi2 lambda_max)
-    h.radius95Total =
-        std::sqrt(u[i].radius95 * u[i].radius95 + kChiSquare3At95 * modelErrorVariance);
+    h.radius95Total = std::sqrt(u[i].radius95 * u[i].radius95 + kChiSquare3At95 * q);
   }
   return out;
 }

@@ -15,12 +15,14 @@
 namespace bcassim {
 
 // Each hidden point of the scene: its position in `mean` (the model following the filter's
-// mean) and its uncertainty from `filter`. modelErrorVariance: q (m^2) of InnovationModelError,
-// added isotropically to the covariance for radius95Total (the eigenvalues shift by q).
+// mean) and its uncertainty from `filter`. modelErrorVariance: per point, the model error's
+// variance per coordinate (m^2; q of InnovationModelError, grown in a free run by
+// FreeRunModelError), added isotropically to the covariance for radius95Total (the eigenvalues
+// shift by it).
 std::vector<HiddenPointPrediction> predictHiddenPoints(const Scene& scene,
                                                        const MechanicalForecastModel& mean,
                                                        const Filter& filter,
-                                                       double modelErrorVariance);
+                                                       const Eigen::VectorXd& modelErrorVariance);
 
 class HiddenPointLog {
  public:

@@ -67,6 +67,9 @@ struct ObservationSettings {
   double sigma = 1e-4;       // m, observation noise standard deviation the filter assumes (R)
   int untilStep = 0;         // observations are used in steps 1 .. untilStep, then free run
   double timeOffset = 0.0;   // s, track time of the scene's t = 0
+  // model_error: grows — the model error seen in the innovations (hidden points' radius) adds up
+  // step by step after the last observation; constant — it stays as it was.
+  bool modelErrorGrows = true;
   // tracks: stream — the markers come live from bcassim serve (OpenIGTLink); `tracks` is empty.
   bool streamed = false;
 };

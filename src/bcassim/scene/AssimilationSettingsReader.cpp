@@ -419,7 +419,8 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
     failAt(src, node, r.pathOf("observations"),
            "missing (tracks of the observed markers, or a point_cloud)");
   MapReader obs(src, r.node("observations"), r.pathOf("observations"),
-                {"tracks", "point_cloud", "noise_stddev", "sigma", "until_step", "time_offset"});
+                {"tracks", "point_cloud", "noise_stddev", "sigma", "until_step", "time_offset",
+                 "model_error"});
   if (obs.has("tracks") == obs.has("point_cloud"))
     failAt(src, obs.self(), obs.pathOf("tracks"),
            obs.has("tracks") ? "expected either tracks or point_cloud, not both"
@@ -428,6 +429,8 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.observations.noiseStddev = obs.number("noise_stddev", 0.0, "m", Range::NonNegative);
   s.observations.sigma = obs.number("sigma", 1e-4, "m", Range::Positive);
   s.observations.untilStep = obs.integer("until_step", c.steps);
+  s.observations.modelErrorGrows =
+      obs.choice("model_error", "grows", {"grows", "constant"}) == "grows";
   if (obs.has("tracks")) {
     if (c.markers == 0)
       obs.fail("tracks", "the scene has no markers; add a markers: section (the observed points)");
