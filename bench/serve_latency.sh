@@ -5,7 +5,7 @@
 # (served/latency.csv), with the round trip the replaying client measured. Prints one markdown
 # row for docs/benchmarks.md.
 #
-#   bench/serve_latency.sh BUILD_DIR LIVER [OUT] [extra `liver prepare` options]
+#   [SERVE_OPTIONS=--async] bench/serve_latency.sh BUILD_DIR LIVER [OUT] [extra `liver prepare` options]
 #   e.g. bench/serve_latency.sh build phantom out/bench/serve-phantom
 #        bench/serve_latency.sh build LiTS-3 out/bench/serve-LiTS-3
 set -euo pipefail
@@ -22,7 +22,8 @@ if [ ! -f truth/markers.csv ]; then
   "$BCASSIM" simulate truth.yaml --out truth -q > truth.out
 fi
 rm -rf served
-"$BCASSIM" serve estimate.yaml --port 0 --out served --idle-timeout 30 > serve.out 2> serve.log &
+# shellcheck disable=SC2086
+"$BCASSIM" serve estimate.yaml ${SERVE_OPTIONS:-} --port 0 --out served --idle-timeout 30 > serve.out 2> serve.log &
 server=$!
 for _ in $(seq 600); do grep -q '^serving' serve.out 2>/dev/null && break; sleep 0.1; done
 port=$(sed -n 's/^serving .* on 127\.0\.0\.1:\([0-9]*\) .*/\1/p' serve.out)
@@ -37,8 +38,11 @@ def pct(p):
     import math
     return ms[max(0, math.ceil(p / 100 * len(ms)) - 1)]
 serve = open("serve.out").read()
-skipped = serve.split(" skipped")[0].rsplit(", ", 1)[-1] if " skipped" in serve else "?"
+skipped = serve.split(" refused")[0].rsplit(", ", 1)[-1] if " refused" in serve else "?"
 rt = [l for l in open("replay.out") if l.startswith("round trip")][0].split(": ", 1)[1].strip()
-print(f"| {sys.argv[1]} | {len(ms)} | {pct(50):.1f} | {pct(95):.1f} | {pct(99):.1f} | {ms[-1]:.1f} "
-      f"| {skipped} | {rt} |")
+import os
+mode = "asynchronous" if "--async" in os.environ.get("SERVE_OPTIONS", "") else "synchronous"
+lags = [int(r["lag_frames"]) for r in rows]
+print(f"| {sys.argv[1]} | {mode} | {len(ms)} | {pct(50):.1f} | {pct(95):.1f} | {pct(99):.1f} | {ms[-1]:.1f} "
+      f"| {max(lags)} | {skipped} | {rt} |")
 PY

@@ -111,7 +111,10 @@ class ServeCommand : public Command {
     else
       options.timeOffset = numberOption("--time-offset", timeOffset_);
     // The real-time model has the other core to itself.
-    if (async_) scene.assimilation->threads = 1;
+    if (async_) {
+      scene.assimilation->threads = 1;
+      scene.assimilation->tangentInBackground = false;  // a third thread on two cores
+    }
 
     createOutputDirectory(outDir_);
     IgtlServer server(host_, port_, logLine);
