@@ -445,9 +445,9 @@ FilterLoopState resumeFromCheckpoint(const Scene& scene, AssimilationSetup& setu
   loop.modelError.restore(c.innovationSumSquares, c.innovationEntries);
   if (c.freeRunLast.size() > 0 && c.freeRunLast.cols() != 3)
     throw InputError(files.checkpointPath + ": damaged (hidden points' free-run positions)");
-  loop.freeRun.restore(c.motionSumSquares, c.motionEntries, c.freeRunPath.reshaped(),
-                       c.freeRunLast.size() > 0 ? Eigen::MatrixX3d(c.freeRunLast)
-                                                : Eigen::MatrixX3d());
+  loop.freeRun.restore(
+      c.motionSumSquares, c.motionEntries, c.freeRunPath.reshaped(),
+      c.freeRunLast.size() > 0 ? Eigen::MatrixX3d(c.freeRunLast) : Eigen::MatrixX3d());
   loop.stepMs = c.stepMs;
   loop.result.observedSteps = c.observedSteps;
   loop.result.tangentFailures = c.tangentFailures;
