@@ -123,18 +123,6 @@ class RunnerHandoff {
   std::exception_ptr failure_;
 };
 
-Eigen::VectorXd flatten(const Eigen::MatrixX3d& m) {
-  Eigen::VectorXd v(3 * m.rows());
-  for (Eigen::Index i = 0; i < m.rows(); ++i) v.segment<3>(3 * i) = m.row(i).transpose();
-  return v;
-}
-
-Eigen::MatrixX3d unflatten(const Eigen::VectorXd& v) {
-  Eigen::MatrixX3d m(v.size() / 3, 3);
-  for (Eigen::Index i = 0; i < m.rows(); ++i) m.row(i) = v.segment<3>(3 * i).transpose();
-  return m;
-}
-
 // Model steps the real-time side re-runs at most to continue from an analysed state.
 constexpr long kCatchUpSteps = 2;
 
@@ -205,7 +193,10 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o, IgtlS
   const FilterStep filter = [&](const Frame& frame) {
     if (o.filterDelay > 0)
       std::this_thread::sleep_for(std::chrono::duration<double>(o.filterDelay));
-    return handoff.analyse(std::lround(frame.time / scene.dt()), unflatten(frame.observations));
+    return handoff.analyse(
+        std::lround(frame.time / scene.dt()),
+        Eigen::MatrixX3d(
+            frame.observations.reshaped(3, frame.observations.size() / 3).transpose()));
   };
   LiveOptions live;
   live.mode = LiveMode::Asynchronous;
@@ -219,7 +210,7 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o, IgtlS
       done = showing->step;
       engine->push(Frame{static_cast<long>(stepOfFrame.size()) - 1,
                          static_cast<double>(showing->step) * scene.dt(),
-                         flatten(showing->markers)});
+                         Eigen::VectorXd(showing->markers.transpose().reshaped())});
     }
     // The stream's end lets the filter finish the frames waiting; an interrupt does not.
     const LiveSummary summary =
