@@ -4,9 +4,10 @@
 # openigtlink-examples, a client we did not write). Every frame must arrive, in order, equal to
 # the offline run's hidden points to 1e-6 m. Meanwhile a second client disconnects and comes
 # back, and a third sends a malformed message: each is one log line, and the server keeps
-# serving. Then the asynchronous mode with a filter slowed to 0.1 s per frame (three camera
+# serving. Then the asynchronous mode with a filter slowed to 0.25 s per frame (7.5 camera
 # frames): every frame is still answered at once (latency under the filter's delay, while the
-# filter's lag grows) and, no frame skipped, the final estimate is the synchronous run's.
+# filter's lag grows) and, no frame skipped, the final estimate is the synchronous run's. (The
+# delay leaves room for the sanitizer build, whose real-time step is several times slower.)
 # Usage: serve_end_to_end.sh BCASSIM RECEIVE_CLIENT WORKDIR
 set -euo pipefail
 BCASSIM=$1
@@ -43,10 +44,13 @@ waitfor serve.log 'client 1 connected'
 leaving=$!
 waitfor serve.log 'client 2 connected'
 
-# 10 Hz so that the run lasts ~4 s: the other clients come and go while it serves.
-"$BCASSIM" replay scene/truth/markers.csv --to "127.0.0.1:$port" --rate 10 > replay.out &
-replay=$!
-for _ in $(seq 300); do [ "$(wc -l < served/latency.csv 2>/dev/null || echo 0)" -gt 5 ] && break; sleep 0.05; done
+# The recording in two halves (steps 1-20, 21-40): between them, with the server waiting for
+# frames, the second client leaves, a third sends a malformed header, and the second comes back.
+awk -F, 'NR == 1 || $1 + 0 <= 0.41' scene/truth/markers.csv > first.csv
+awk -F, 'NR == 1 || $1 + 0 > 0.41' scene/truth/markers.csv > second.csv
+"$BCASSIM" replay first.csv --to "127.0.0.1:$port" --rate 30 --wait 1 > replay.out
+for _ in $(seq 600); do [ "$(wc -l < served/latency.csv)" -ge 21 ] && break; sleep 0.1; done
+test "$(wc -l < served/latency.csv)" -ge 21
 kill $leaving
 waitfor serve.log 'client 2 disconnected'
 python3 - "$port" <<'PY'
@@ -57,6 +61,9 @@ s.close()
 PY
 waitfor serve.log 'the stream cannot be followed, client dropped'
 "$CLIENT" 127.0.0.1 "$port" > /dev/null 2> again.txt &
+waitfor serve.log 'client 5 connected'
+"$BCASSIM" replay second.csv --to "127.0.0.1:$port" --rate 30 >> replay.out &
+replay=$!
 wait $replay
 wait $server
 trap - EXIT
@@ -67,14 +74,14 @@ cat serve.out replay.out
 grep -q 'disconnected' serve.log
 grep -q "OpenIGTLink header: version 32513 (expected 1 or 2, the protocol of libopenigtlink 1.11); the stream cannot be followed, client dropped" serve.log
 test "$(grep -c ' connected$' serve.log)" -ge 5
-# the client that came back got the frames served after it connected
+# the client that came back got every frame served after it connected: the second half
 again=$(grep -c 'Receiving POINT data type.' again.txt || true)
 echo "the reconnected client received $again hidden-point messages"
-test "$again" -gt 0 && test "$again" -lt $STEPS
+test "$again" -eq $((STEPS / 2))
 python3 "$HERE/compare_received.py" client.txt offline/hidden_points.csv $STEPS
 
 # The asynchronous mode, its filter slowed below the camera's rate.
-"$BCASSIM" serve scene/estimate.yaml --port 0 --out async --async --filter-delay 0.1 --max-lag 1000 \
+"$BCASSIM" serve scene/estimate.yaml --port 0 --out async --async --filter-delay 0.25 --max-lag 1000 \
   --idle-timeout 60 > async.out 2> async.log &
 server=$!
 trap 'kill $server 2>/dev/null || true' EXIT
@@ -90,7 +97,7 @@ rows = list(csv.DictReader(open("async/latency.csv")))
 assert len(rows) == 40, f"{len(rows)} frames answered, expected 40"
 worst = max(float(r["latency_ms"]) for r in rows)
 lag = max(int(r["lag_frames"]) for r in rows)
-assert worst < 100.0, f"an answer took {worst} ms: the real-time side waited for the filter"
+assert worst < 250.0, f"an answer took {worst} ms: the real-time side waited for the filter"
 assert lag >= 5, f"the filter was at most {lag} frames behind; it was meant to fall behind"
 final = {}
 for name in ("offline", "async"):
