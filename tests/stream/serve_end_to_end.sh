@@ -8,11 +8,14 @@
 # frames): every frame is still answered at once (latency under the filter's delay, while the
 # filter's lag grows) and, no frame skipped, the final estimate is the synchronous run's. (The
 # delay leaves room for the sanitizer build, whose real-time step is several times slower.)
-# Usage: serve_end_to_end.sh BCASSIM RECEIVE_CLIENT WORKDIR
+# Usage: serve_end_to_end.sh BCASSIM RECEIVE_CLIENT WORKDIR [--sanitized]
+# --sanitized (the AddressSanitizer build, whose -O1 model steps are ~70 times slower): the
+# answers' latency is printed, not held to the bound; everything else is checked as in Release.
 set -euo pipefail
 BCASSIM=$1
 CLIENT=$2
 DIR=$3
+SANITIZED=${4:-}
 HERE=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$DIR" && mkdir -p "$DIR" && cd "$DIR"
 STEPS=40
@@ -91,13 +94,14 @@ port=$(sed -n 's/^serving .* on 127\.0\.0\.1:\([0-9]*\) .*/\1/p' async.out)
 wait $server
 trap - EXIT
 cat async.out async-replay.out
-python3 - <<'PY'
-import csv
+python3 - "$SANITIZED" <<'PY'
+import csv, sys
+sanitized = sys.argv[1] == "--sanitized"
 rows = list(csv.DictReader(open("async/latency.csv")))
 assert len(rows) == 40, f"{len(rows)} frames answered, expected 40"
 worst = max(float(r["latency_ms"]) for r in rows)
 lag = max(int(r["lag_frames"]) for r in rows)
-assert worst < 250.0, f"an answer took {worst} ms: the real-time side waited for the filter"
+assert sanitized or worst < 250.0, f"an answer took {worst} ms: the real-time side waited for the filter"
 assert lag >= 5, f"the filter was at most {lag} frames behind; it was meant to fall behind"
 final = {}
 for name in ("offline", "async"):
