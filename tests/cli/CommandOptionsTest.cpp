@@ -122,7 +122,11 @@ TEST(CommandOptions, ThreadsBelowOneIsAnArgumentErrorNamingThreads) {
 
 TEST(CommandOptions, NegativeWalkAndCameraOffsetAreArgumentErrorsNamingTheOption) {
   const std::pair<const char*, const char*> options[] = {
-      {"liver prepare phantom", "--stiffness-walk"}, {"liver tracked phantom", "--camera-offset"}};
+      {"liver prepare phantom", "--stiffness-walk"},
+      {"liver tracked phantom", "--camera-offset"},
+      {"serve s.yaml", "--idle-timeout"},
+      {"serve s.yaml", "--filter-delay"},
+      {"replay t.csv --to h:1", "--wait"}};
   for (const auto& [command, option] : options)
     for (const char* value : {"-0.5", "x", "nan"}) {
       const std::string args = std::string(command) + " " + option + "=" + value;
@@ -134,6 +138,34 @@ TEST(CommandOptions, NegativeWalkAndCameraOffsetAreArgumentErrorsNamingTheOption
                            "' (see 'bcassim --help')\n");
       EXPECT_EQ(r.out, "");
     }
+}
+
+// serve and replay: a time offset that is no number, an address that is not HOST:PORT, a port,
+// rate or lag out of range: one line naming the option, exit 2, before any file is read.
+TEST(CommandOptions, ServeAndReplayRefuseBadValuesNamingTheOption) {
+  const auto dir = freshDir();
+  test::CliResult r = runBcassim(dir, "serve missing.yaml --time-offset soon");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err,
+            "bcassim: error: --time-offset 'soon': expected 'scene', 'first' or a number of "
+            "seconds\n");
+  // The tracks are read first, so write some.
+  test::writeText(dir / "t.csv", "time,marker,x,y,z\n0.02,0,0,0,0\n");
+  for (const char* to : {"localhost", "h:0", "h:70000", ":18944", "h:18944x"}) {
+    r = runBcassim(dir, std::string("replay t.csv --to ") + to);
+    EXPECT_EQ(r.exitCode, 2) << to;
+    EXPECT_EQ(r.err, std::string("bcassim: error: --to '") + to +
+                         "': expected HOST:PORT with a port from 1 to 65535\n");
+  }
+  for (const char* args : {"serve s.yaml --port 70000", "serve s.yaml --max-lag 0",
+                           "replay t.csv --to h:1 --rate 0"}) {
+    r = runBcassim(dir, args);
+    const std::string option = std::string(args).substr(std::string(args).rfind(" --") + 1);
+    EXPECT_EQ(r.exitCode, 2) << args;
+    EXPECT_EQ(test::countLines(r.err), 1) << r.err;
+    EXPECT_TRUE(contains(r.err, option.substr(0, option.find(' ')))) << r.err;
+    EXPECT_EQ(r.out, "");
+  }
 }
 
 // A file that is not there: the command's one-line message naming it, exit 2, nothing on stdout.

@@ -96,6 +96,22 @@ TEST(StreamedRun, SameFilesAsTheTracksFileAndEndsWhenTheStreamDoes) {
   EXPECT_EQ(full.substr(0, ended.size()), ended);
 }
 
+TEST(StreamedRun, ModelErrorIsGrowsOrConstant) {
+  const auto dir = freshDir();
+  std::string yaml = streamedEstimation("stream");
+  EXPECT_TRUE(loadSceneFromString(yaml, "estimate.yaml", dir.string())
+                  .assimilation->observations.modelErrorGrows);
+  yaml.replace(yaml.find("sigma: 1.0e-4}"), 14, "sigma: 1.0e-4, model_error: sometimes}");
+  try {
+    loadSceneFromString(yaml, "estimate.yaml", dir.string());
+    FAIL() << "loaded";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "estimate.yaml:21: assimilation.observations.model_error: expected one of "
+                 "grows, constant, got 'sometimes'");
+  }
+}
+
 TEST(StreamedRun, StreamTracksNeedAStream) {
   const auto dir = freshDir();
   const Scene scene =

@@ -94,6 +94,11 @@ class ServeCommand : public Command {
 
   int run() override {
     const io::OutputDirectoryLock lock(outDir_);
+    // A bad --time-offset is reported before the scene is read.
+    const std::optional<double> offsetSeconds =
+        timeOffset_ == "scene" || timeOffset_ == "first"
+            ? std::nullopt
+            : std::optional<double>(numberOption("--time-offset", timeOffset_));
     Scene scene = loadScene(scenePath_);
     if (!scene.assimilation)
       throw InputError(scenePath_ + ": no assimilation: section (see docs/assimilation-format.md)");
@@ -109,7 +114,7 @@ class ServeCommand : public Command {
     else if (timeOffset_ == "first")
       options.timeOffset.reset();
     else
-      options.timeOffset = numberOption("--time-offset", timeOffset_);
+      options.timeOffset = offsetSeconds;
     // The real-time model has the other core to itself.
     if (async_) {
       scene.assimilation->threads = 1;
