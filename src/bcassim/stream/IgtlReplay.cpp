@@ -104,14 +104,16 @@ ReplayReport replayTracks(const MarkerTracks& tracks, const ReplayOptions& optio
   if (!log.error.empty())
     throw InputError(fmt::format("{}:{}: {}", options.host, options.port, log.error));
   report.answers = static_cast<long>(log.answers.size());
+  const auto sentTimes = tracks.times.begin();
+  const auto sentEnd = sentTimes + static_cast<long>(sentAt.size());
   for (const auto& [stamp, arrived] : log.answers) {
-    // The frame with this stamp (stamps go through OpenIGTLink's 2^-32 s fixed point).
-    for (size_t f = 0; f < sentAt.size(); ++f)
-      if (std::abs(tracks.times[f] - stamp) < 1e-6) {
-        report.roundTripMs.push_back(1e3 *
-                                     std::chrono::duration<double>(arrived - sentAt[f]).count());
-        break;
-      }
+    // The frame with this stamp (times increase; stamps go through OpenIGTLink's 2^-32 s fixed
+    // point, hence the tolerance).
+    const auto f = std::lower_bound(sentTimes, sentEnd, stamp - 1e-6);
+    if (f != sentEnd && std::abs(*f - stamp) < 1e-6)
+      report.roundTripMs.push_back(
+          1e3 * std::chrono::duration<double>(arrived - sentAt[static_cast<size_t>(f - sentTimes)])
+                    .count());
   }
   return report;
 }
