@@ -89,11 +89,16 @@ void bindAssimilation(py::module_& m) {
                                  "Physical value <-> the unconstrained value a filter estimates")
       .def(py::init([](const std::string& kind, double lower, double upper) {
              switch (parseTransformKind(kind)) {
-               case TransformKind::Identity: return ParameterTransform::identity();
-               case TransformKind::Absolute: return ParameterTransform::absolute();
-               case TransformKind::Exponential: return ParameterTransform::exponential();
-               case TransformKind::Projection: return ParameterTransform::projection(lower, upper);
-               case TransformKind::BoundedLog: return ParameterTransform::boundedLog(lower, upper);
+               case TransformKind::Identity:
+                 return ParameterTransform::identity();
+               case TransformKind::Absolute:
+                 return ParameterTransform::absolute();
+               case TransformKind::Exponential:
+                 return ParameterTransform::exponential();
+               case TransformKind::Projection:
+                 return ParameterTransform::projection(lower, upper);
+               case TransformKind::BoundedLog:
+                 return ParameterTransform::boundedLog(lower, upper);
              }
              return ParameterTransform();
            }),
@@ -116,8 +121,8 @@ void bindAssimilation(py::module_& m) {
       m, "StochasticState",
       "Layout x = [physical part; parameters]: the physical part's initial mean and sigma (may "
       "be empty, or 0 where known exactly), then the parameters")
-      .def(py::init<Eigen::VectorXd, Eigen::VectorXd, std::vector<Parameter>>(),
-           "physical_mean"_a, "physical_stddev"_a, "parameters"_a)
+      .def(py::init<Eigen::VectorXd, Eigen::VectorXd, std::vector<Parameter>>(), "physical_mean"_a,
+           "physical_stddev"_a, "parameters"_a)
       .def_property_readonly("size", &StochasticState::size)
       .def_property_readonly("physical_size", &StochasticState::physicalSize)
       .def_property_readonly("parameters", &StochasticState::parameters)
@@ -175,9 +180,9 @@ void bindAssimilation(py::module_& m) {
           "observation"_a = py::none(),
           "Forecasts every sigma point / member one step and corrects with the observation "
           "(None: prediction only)")
-      .def_property_readonly("mean",
-                             [](const FilterHandle& h) { return Eigen::VectorXd(h.filter->mean()); },
-                             "Mean of x in the filter's unconstrained space")
+      .def_property_readonly(
+          "mean", [](const FilterHandle& h) { return Eigen::VectorXd(h.filter->mean()); },
+          "Mean of x in the filter's unconstrained space")
       .def("covariance", [](const FilterHandle& h) { return h.filter->covariance(); })
       .def("covariance_factor", [](const FilterHandle& h) { return h.filter->covarianceFactor(); })
       .def(

@@ -94,13 +94,13 @@ void bindAtlas(py::module_& m) {
       .def_readonly("template", &LigamentAtlas::templ)
       .def_readonly("subjects", &LigamentAtlas::subjects)
       .def_readonly("alignment_rms", &LigamentAtlas::alignmentRms)
-      .def_property_readonly("curve",
-                             [](const LigamentAtlas& a) { return carryCurve(a.curve, a.templ.V); },
-                             "The mean curve and its band on the template");
+      .def_property_readonly(
+          "curve", [](const LigamentAtlas& a) { return carryCurve(a.curve, a.templ.V); },
+          "The mean curve and its band on the template");
   m.def(
       "build_ligament_atlas",
-      [](const std::vector<AtlasSubject>& subjects, double sigmaV, double sigmaW,
-         bool frechetMean, int maxIterations, const std::optional<py::function>& log) {
+      [](const std::vector<AtlasSubject>& subjects, double sigmaV, double sigmaW, bool frechetMean,
+         int maxIterations, const std::optional<py::function>& log) {
         LigamentAtlasOptions o;
         o.registration = registrationOptions(sigmaV, sigmaW, "varifold", maxIterations);
         o.frechetMean = frechetMean;
@@ -132,7 +132,8 @@ void bindAtlas(py::module_& m) {
       "transfer_atlas",
       [](const LigamentAtlas& atlas, const TriMesh& patient, double sigmaV, double sigmaW,
          int maxIterations, bool rigidAlign, bool project) {
-        const RegistrationOptions o = registrationOptions(sigmaV, sigmaW, "varifold", maxIterations);
+        const RegistrationOptions o =
+            registrationOptions(sigmaV, sigmaW, "varifold", maxIterations);
         py::gil_scoped_release release;
         return transferAtlas(atlas, patient, o, rigidAlign, project);
       },

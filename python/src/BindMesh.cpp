@@ -64,17 +64,23 @@ void bindMesh(py::module_& m) {
       "The boundary triangles of a tet mesh, outward, on the mesh's own node numbering");
 
   py::class_<BoxRegion>(m, "BoxRegion", "Axis-aligned box, corners in m (boundary included)")
-      .def(py::init([](const Vec3& lo, const Vec3& hi) { return BoxRegion{lo, hi}; }), "min"_a,
-           "max"_a)
+      .def(py::init([](const Vec3& lo, const Vec3& hi) {
+             return BoxRegion{lo, hi};
+           }),
+           "min"_a, "max"_a)
       .def_readwrite("min", &BoxRegion::min)
       .def_readwrite("max", &BoxRegion::max);
   py::class_<SphereRegion>(m, "SphereRegion", "Ball: centre (m) and radius (m)")
-      .def(py::init([](const Vec3& c, double r) { return SphereRegion{c, r}; }), "center"_a,
-           "radius"_a)
+      .def(py::init([](const Vec3& c, double r) {
+             return SphereRegion{c, r};
+           }),
+           "center"_a, "radius"_a)
       .def_readwrite("center", &SphereRegion::center)
       .def_readwrite("radius", &SphereRegion::radius);
   py::class_<HalfSpaceRegion>(m, "HalfSpaceRegion", "Points x with (x - point) . normal >= 0 (m)")
-      .def(py::init([](const Vec3& p, const Vec3& n) { return HalfSpaceRegion{p, n}; }),
+      .def(py::init([](const Vec3& p, const Vec3& n) {
+             return HalfSpaceRegion{p, n};
+           }),
            "point"_a, "normal"_a)
       .def_readwrite("point", &HalfSpaceRegion::point)
       .def_readwrite("normal", &HalfSpaceRegion::normal);
@@ -108,7 +114,9 @@ void bindMesh(py::module_& m) {
       "mesh"_a, "region"_a, "Sorted ids of the tets whose centroid lies in the region");
 
   py::class_<RigidTransform>(m, "RigidTransform", "x -> rotation x + translation (m)")
-      .def(py::init([](const Mat3& r, const Vec3& t) { return RigidTransform{r, t}; }),
+      .def(py::init([](const Mat3& r, const Vec3& t) {
+             return RigidTransform{r, t};
+           }),
            "rotation"_a = Mat3::Identity(), "translation"_a = Vec3::Zero())
       .def_readwrite("rotation", &RigidTransform::rotation)
       .def_readwrite("translation", &RigidTransform::translation)
@@ -119,7 +127,8 @@ void bindMesh(py::module_& m) {
       [](const Eigen::MatrixX3d& P, const Eigen::MatrixX3d& Q, const Eigen::VectorXd& w) {
         return kabschFit(P, Q, w);
       },
-      "P"_a, "Q"_a, "weights"_a = Eigen::VectorXd(), "The rigid transform moving points P onto their correspondents Q (least squares)");
+      "P"_a, "Q"_a, "weights"_a = Eigen::VectorXd(),
+      "The rigid transform moving points P onto their correspondents Q (least squares)");
 }
 
 }  // namespace bcassim::python

@@ -64,12 +64,12 @@ void bindScene(py::module_& m) {
       .def_readonly("markers", &Scene::markers)
       .def_readonly("validation_points", &Scene::validation)
       .def_readonly("hidden_points", &Scene::hidden)
-      .def_property_readonly("parameters",
-                             [](const Scene& s) {
-                               return s.assimilation ? s.assimilation->parameters
-                                                     : std::vector<EstimatedParameter>();
-                             },
-                             "Parameters the assimilation: section estimates, with their priors")
+      .def_property_readonly(
+          "parameters",
+          [](const Scene& s) {
+            return s.assimilation ? s.assimilation->parameters : std::vector<EstimatedParameter>();
+          },
+          "Parameters the assimilation: section estimates, with their priors")
       .def(
           "set_young_modulus",
           [](Scene& s, int region, double E, const std::string& law, double nu) {
@@ -136,17 +136,16 @@ void bindScene(py::module_& m) {
           "Runs `steps` steps (None: to the scene's end), calling callback(simulation) after each")
       .def_property_readonly("step_index", &SceneSimulation::stepsDone)
       .def_property_readonly("time", [](const SceneSimulation& s) { return s.state().t; })
-      .def_property_readonly("positions",
-                             [](const SceneSimulation& s) { return nodeRows(s.state().x); },
-                             "#V x 3 node positions, m")
-      .def_property_readonly("velocities",
-                             [](const SceneSimulation& s) { return nodeRows(s.state().v); },
-                             "#V x 3 node velocities, m/s")
+      .def_property_readonly(
+          "positions", [](const SceneSimulation& s) { return nodeRows(s.state().x); },
+          "#V x 3 node positions, m")
+      .def_property_readonly(
+          "velocities", [](const SceneSimulation& s) { return nodeRows(s.state().v); },
+          "#V x 3 node velocities, m/s")
       .def_property_readonly("model", &SceneSimulation::model,
                              py::return_value_policy::reference_internal)
       .def(
-          "markers",
-          [](const SceneSimulation& s) { return s.pointPositions(s.scene().markers); },
+          "markers", [](const SceneSimulation& s) { return s.pointPositions(s.scene().markers); },
           "Marker positions now, m")
       .def(
           "hidden_points",
@@ -205,8 +204,8 @@ void bindScene(py::module_& m) {
 
   m.def(
       "simulate",
-      [](const Scene& scene, const std::string& outDir,
-         const std::optional<py::function>& progress, bool resume) {
+      [](const Scene& scene, const std::string& outDir, const std::optional<py::function>& progress,
+         bool resume) {
         const auto callback = withGil<RunProgress>(progress);
         SimulationResult r;
         {
@@ -222,8 +221,8 @@ void bindScene(py::module_& m) {
       "step; returns one dict per run (base, then variants)");
   m.def(
       "assimilate",
-      [](const Scene& scene, const std::string& outDir,
-         const std::optional<py::function>& progress, bool resume) {
+      [](const Scene& scene, const std::string& outDir, const std::optional<py::function>& progress,
+         bool resume) {
         const auto callback = withGil<AssimilationProgress>(progress);
         AssimilationResult r;
         {

@@ -4,8 +4,9 @@
 
 PYBIND11_MODULE(_bcassim, m) {
   using namespace bcassim::python;
-  m.doc() = "bcassim: boundary-condition estimation of organ models by Kalman filtering over FEM. "
-            "SI units everywhere (m, Pa, N, s).";
+  m.doc() =
+      "bcassim: boundary-condition estimation of organ models by Kalman filtering over FEM. "
+      "SI units everywhere (m, Pa, N, s).";
   m.attr("__version__") = BCASSIM_VERSION;
   bindErrors(m);
   auto mesh = m.def_submodule("mesh", "Tetrahedral and surface meshes, generators, regions (m)");
@@ -15,8 +16,8 @@ PYBIND11_MODULE(_bcassim, m) {
   auto mechanics =
       m.def_submodule("mechanics", "Forces and stiffness of a mechanical model (N, N/m, J)");
   bindMechanics(mechanics);
-  auto assimilation = m.def_submodule(
-      "assimilation", "Kalman filters (UKF, ROUKF, ETKF) over any forecast model");
+  auto assimilation =
+      m.def_submodule("assimilation", "Kalman filters (UKF, ROUKF, ETKF) over any forecast model");
   bindAssimilation(assimilation);
   auto scene = m.def_submodule("scene", "YAML scenes: load, change, simulate, assimilate");
   bindScene(scene);

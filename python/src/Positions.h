@@ -18,7 +18,8 @@ inline Eigen::VectorXd flatPositions(const pybind11::array_t<double, pybind11::a
   if (!matrix && !flat)
     throw pybind11::value_error(what + ": expected " + std::to_string(nodes) + " x 3 or " +
                                 std::to_string(3 * nodes) + " values (m)");
-  const auto c = pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast>(x);
+  const auto c =
+      pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast>(x);
   return Eigen::Map<const Eigen::VectorXd>(c.data(), 3 * nodes);
 }
 

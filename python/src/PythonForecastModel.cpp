@@ -21,7 +21,8 @@ Eigen::VectorXd vectorOf(const py::handle& value, Eigen::Index expected, const c
 void PythonForecastModel::forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
                                    Eigen::VectorXd& newState, Eigen::VectorXd& observable) {
   py::gil_scoped_acquire gil;
-  const py::function override = py::get_override(static_cast<const ForecastModel*>(this), "forecast");
+  const py::function override =
+      py::get_override(static_cast<const ForecastModel*>(this), "forecast");
   if (!override) py::pybind11_fail("ForecastModel.forecast is not implemented");
   const py::object result = override(state, params);
   if (!py::isinstance<py::tuple>(result) || py::len(result) != 2)
@@ -33,7 +34,8 @@ void PythonForecastModel::forecast(const Eigen::VectorXd& state, const Eigen::Ve
 
 void PythonForecastModel::endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) {
   py::gil_scoped_acquire gil;
-  const py::function override = py::get_override(static_cast<const ForecastModel*>(this), "end_step");
+  const py::function override =
+      py::get_override(static_cast<const ForecastModel*>(this), "end_step");
   if (override) override(state, params);  // optional: a model without reference state needs none
 }
 

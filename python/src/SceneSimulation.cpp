@@ -28,9 +28,8 @@ void SceneSimulation::step() {
       state_.t = next * scene_.dt();  // no drift from summing dt
     }
   } catch (const NumericalError& e) {
-    throw NumericalError(
-        fmt::format("{}: step {} (t = {:g} s): {}", scene_.sourceFile, next, next * scene_.dt(),
-                    e.what()));
+    throw NumericalError(fmt::format("{}: step {} (t = {:g} s): {}", scene_.sourceFile, next,
+                                     next * scene_.dt(), e.what()));
   }
   steps_ = next;
 }

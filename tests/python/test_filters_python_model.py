@@ -1,0 +1,163 @@
+"""bcassim's filters on a model written in Python: a linear-Gaussian model gives the exact Kalman
+posterior through UKF (every sigma-point set), ROUKF (full and reduced rank) and ETKF (against the
+Kalman update of its own forecast ensemble); threads, observation operators and errors."""
+import numpy as np
+import pytest
+
+import bcassim
+from bcassim.assimilation import (EtkfFilter, ForecastModel, Observation, ObservationOperator,
+                                  Parameter, RoukfFilter, StochasticState, UkfFilter)
+
+A = np.array([[0.9, 0.2], [-0.1, 0.95]])
+B = np.array([0.05, 0.1])  # x' = A x + B theta: the parameter theta drives the state
+R = np.diag([0.02**2, 0.05**2])
+
+
+class LinearModel(ForecastModel):
+    """x_{k+1} = A x_k + B theta; the observable is the new state itself."""
+
+    def __init__(self):
+        super().__init__()
+        self.calls = 0
+
+    def state_size(self):
+        return 2
+
+    def observable_size(self):
+        return 2
+
+    def forecast(self, state, params):
+        self.calls += 1
+        new = A @ state + B * params[0]
+        return new, new
+
+
+def kalman_step(m, P, y):
+    F = np.block([[A, B[:, None]], [np.zeros((1, 2)), np.ones((1, 1))]])
+    H = np.hstack([np.eye(2), np.zeros((2, 1))])
+    mf, Pf = F @ m, F @ P @ F.T
+    S = H @ Pf @ H.T + R
+    K = Pf @ H.T @ np.linalg.inv(S)
+    return mf + K @ (y - H @ mf), (np.eye(3) - K @ H) @ Pf
+
+
+def observations(steps):
+    rng = np.random.default_rng(7)
+    x, theta, ys = np.array([1.0, -0.5]), 2.0, []
+    for _ in range(steps):
+        x = A @ x + B * theta
+        ys.append(x + rng.multivariate_normal(np.zeros(2), R))
+    return ys
+
+
+def layout(physical_sd):
+    return StochasticState([0.8, -0.3], physical_sd, [Parameter("theta", 1.0, 0.7)])
+
+
+@pytest.mark.parametrize("make", [
+    lambda s: UkfFilter(layout([0.1, 0.2]), LinearModel(), sigma_points="star"),
+    lambda s: UkfFilter(layout([0.1, 0.2]), LinearModel(), sigma_points="canonical"),
+    lambda s: UkfFilter(layout([0.1, 0.2]), LinearModel(), sigma_points="simplex"),
+    lambda s: RoukfFilter(layout([0.1, 0.2]), LinearModel()),
+], ids=["ukf-star", "ukf-canonical", "ukf-simplex", "roukf-full-rank"])
+def test_linear_gaussian_model_gives_the_exact_kalman_posterior(make):
+    f = make(None)
+    m = np.array([0.8, -0.3, 1.0])
+    P = np.diag([0.1, 0.2, 0.7]) ** 2
+    for y in observations(6):
+        m, P = kalman_step(m, P, y)
+        report = f.step(Observation(y, variance=np.diag(R)))
+        np.testing.assert_allclose(f.mean, m, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(f.covariance(), P, rtol=1e-9, atol=1e-14)
+        assert report.observed == 2
+    mean, sd = f.estimate()
+    np.testing.assert_allclose(mean, m, rtol=1e-10)
+    np.testing.assert_allclose(sd, np.sqrt(np.diag(P)), rtol=1e-9)
+
+
+def test_roukf_at_reduced_rank_is_the_kalman_filter_with_a_known_initial_state():
+    f = RoukfFilter(layout([0.0, 0.0]), LinearModel())
+    m = np.array([0.8, -0.3, 1.0])
+    P = np.diag([0.0, 0.0, 0.7]) ** 2
+    for y in observations(6):
+        m, P = kalman_step(m, P, y)
+        f.step(Observation(y, variance=np.diag(R)))
+        np.testing.assert_allclose(f.mean, m, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(f.covariance(), P, rtol=1e-9, atol=1e-14)
+
+
+def test_etkf_analysis_is_the_kalman_update_of_its_forecast_ensemble():
+    f = EtkfFilter(layout([0.1, 0.2]), LinearModel(), members=8, seed=3)
+    F = np.block([[A, B[:, None]], [np.zeros((1, 2)), np.ones((1, 1))]])
+    H = np.hstack([np.eye(2), np.zeros((2, 1))])
+    for y in observations(4):
+        forecast = F @ np.asarray(f.members)
+        mf = forecast.mean(axis=1)
+        Xf = forecast - mf[:, None]
+        Pf = Xf @ Xf.T / (forecast.shape[1] - 1)
+        K = Pf @ H.T @ np.linalg.inv(H @ Pf @ H.T + R)
+        f.step(Observation(y, variance=np.diag(R)))
+        np.testing.assert_allclose(f.mean, mf + K @ (y - H @ mf), rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(f.covariance(), (np.eye(3) - K @ H) @ Pf, rtol=1e-9,
+                                   atol=1e-14)
+
+
+def test_threads_give_the_same_estimate_as_one_thread():
+    runs = []
+    for threads in (1, 2):
+        models = [LinearModel() for _ in range(threads)]
+        f = UkfFilter(layout([0.1, 0.2]), models, threads=threads)
+        for y in observations(5):
+            f.step(Observation(y, sigma=0.03))
+        runs.append(f.mean)
+        assert sum(m.calls for m in models) == 5 * 7  # 2n + 1 star sigma points per step
+    np.testing.assert_array_equal(runs[0], runs[1])
+
+
+class FirstComponent(ObservationOperator):
+    """Observes the first entry of the observable only."""
+
+    def linearize(self, mean_observable, frame):
+        return frame
+
+    def predict(self, observable):
+        return observable[:1]
+
+
+def test_a_python_observation_operator_is_used():
+    f = UkfFilter(layout([0.1, 0.2]), LinearModel(), observation=FirstComponent())
+    m = np.array([0.8, -0.3, 1.0])
+    P = np.diag([0.1, 0.2, 0.7]) ** 2
+    F = np.block([[A, B[:, None]], [np.zeros((1, 2)), np.ones((1, 1))]])
+    H = np.array([[1.0, 0.0, 0.0]])
+    for y in observations(3):
+        mf, Pf = F @ m, F @ P @ F.T
+        K = Pf @ H.T / (H @ Pf @ H.T + R[0, 0])
+        m, P = mf + (K * (y[0] - H @ mf)).ravel(), (np.eye(3) - K @ H) @ Pf
+        f.step(Observation(y[:1], variance=[R[0, 0]]))
+        np.testing.assert_allclose(f.mean, m, rtol=1e-10)
+
+
+def test_prediction_only_steps_and_errors():
+    f = RoukfFilter(layout([0.1, 0.2]), LinearModel())
+    assert f.step().observed == 0  # no observation: the step predicts only
+
+    class WrongSize(LinearModel):
+        def forecast(self, state, params):
+            return np.zeros(3), np.zeros(2)
+
+    with pytest.raises(ValueError, match="new_state has 3 entries, expected 2"):
+        RoukfFilter(layout([0.1, 0.2]), WrongSize()).step()
+
+    class Failing(LinearModel):
+        def forecast(self, state, params):
+            raise RuntimeError("the simulator diverged")
+
+    with pytest.raises(RuntimeError, match="the simulator diverged"):
+        UkfFilter(layout([0.1, 0.2]), [Failing(), Failing()], threads=2).step()
+    with pytest.raises(ValueError, match="1 for 2 threads"):
+        UkfFilter(layout([0.1, 0.2]), LinearModel(), threads=2)
+    with pytest.raises(bcassim.InputError, match="observation frame has 3 values"):
+        f.step(Observation([1.0, 2.0, 3.0], sigma=0.1))
+    with pytest.raises(bcassim.InputError):
+        StochasticState([0.0], [0.1], [Parameter("k", 1.0, -1.0)])  # sigma <= 0
