@@ -120,7 +120,8 @@ void bindAtlas(py::module_& m) {
       "The statistical atlas of thesis §4.3 (eq. 4.8): mean shape, carried curves, their mean "
       "and sigma per cutting plane; log(line) reports progress");
   m.def("write_ligament_atlas", &writeLigamentAtlas, "dir"_a, "atlas"_a);
-  m.def("read_ligament_atlas", &readLigamentAtlas, "dir"_a);
+  m.def("read_ligament_atlas", &readLigamentAtlas, "dir"_a,
+        py::call_guard<py::gil_scoped_release>());
 
   py::class_<AtlasTransfer>(m, "AtlasTransfer", "The atlas carried onto a patient (m)")
       .def_readonly("rigid", &AtlasTransfer::rigid)

@@ -35,6 +35,7 @@ FieldSet pointFieldsFrom(const py::dict& fields) {
 
 void bindIo(py::module_& m) {
   m.def("read_tet_mesh", &readTetMesh, "path"_a, "region_field"_a = "",
+        py::call_guard<py::gil_scoped_release>(),
         "Reads and validates a tet mesh (.vtk, .vtu, .msh; metres); InputError names the file and "
         "line");
   m.def(
@@ -54,10 +55,11 @@ void bindIo(py::module_& m) {
       "path"_a, "mesh"_a, "positions"_a = py::none(), "fields"_a = py::dict(),
       "Writes .vtu or .vtk for ParaView: at `positions` (#V x 3, m; None: rest) with point fields "
       "(dict name -> #V or #V x 3 array, name with its SI unit)");
-  m.def("read_surface", &readSurface, "path"_a,
+  m.def("read_surface", &readSurface, "path"_a, py::call_guard<py::gil_scoped_release>(),
         "Reads a triangle surface (.stl, .obj, .vtk, .vtp), coordinates as stored");
-  m.def("write_surface", &writeSurface, "path"_a, "mesh"_a, "Writes .stl, .obj, .vtk or .vtp");
-  m.def("read_points", &readPoints, "path"_a,
+  m.def("write_surface", &writeSurface, "path"_a, "mesh"_a,
+        py::call_guard<py::gil_scoped_release>(), "Writes .stl, .obj, .vtk or .vtp");
+  m.def("read_points", &readPoints, "path"_a, py::call_guard<py::gil_scoped_release>(),
         "Reads #P x 3 points from .csv (x,y,z columns), .txt (x y z per line) or .npy");
 }
 

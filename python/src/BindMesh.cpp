@@ -53,8 +53,10 @@ void bindMesh(py::module_& m) {
       });
 
   m.def("make_box_mesh", &makeBoxMesh, "size"_a, "nx"_a, "ny"_a, "nz"_a,
+        py::call_guard<py::gil_scoped_release>(),
         "Box [0, size] (m) split into nx x ny x nz cubes of 6 tets each");
   m.def("make_cylinder_mesh", &makeCylinderMesh, "radius"_a, "length"_a, "target_nodes"_a,
+        py::call_guard<py::gil_scoped_release>(),
         "Cylinder of radius and length (m) along z from 0, about target_nodes nodes");
   m.def("make_icosphere_surface", &makeIcosphereSurface, "radius"_a, "levels"_a,
         "Sphere surface (m) from an icosahedron subdivided `levels` times");

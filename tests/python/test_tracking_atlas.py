@@ -63,3 +63,30 @@ def test_surface_distance_and_registration():
     assert r.deformed_vertices.shape == (len(sphere.V), 3)
     assert r.initial_data == pytest.approx(d0, rel=1e-9)
     assert r.data < 0.1 * r.initial_data
+
+
+def test_a_small_atlas_is_built_and_transferred(tmp_path):
+    sphere = make_icosphere_surface(0.05, 2)
+    V = np.asarray(sphere.V)
+    subjects = []
+    for i, scale in enumerate([(1.0, 1.0, 1.0), (1.1, 0.95, 1.0), (0.95, 1.05, 1.05)]):
+        moved = V * scale
+        # An attachment curve over the top of each shape: the vertices near the plane x = 0.
+        top = moved[(np.abs(moved[:, 0]) < 0.012) & (moved[:, 2] > 0)]
+        curve = top[np.argsort(top[:, 1])]
+        subjects.append(bcassim.atlas.AtlasSubject(f"s{i}", TriMesh(moved, sphere.F), curve))
+    lines = []
+    atlas = bcassim.atlas.build_ligament_atlas(subjects, sigma_v=0.03, sigma_w=0.01,
+                                               frechet_mean=False, max_iterations=10,
+                                               log=lines.append)
+    assert atlas.subjects == ["s0", "s1", "s2"] and lines
+    curve = atlas.curve
+    assert len(curve.mean) >= 3 and np.all(curve.sigma >= 0)
+    bcassim.atlas.write_ligament_atlas(str(tmp_path / "atlas"), atlas)
+    again = bcassim.atlas.read_ligament_atlas(str(tmp_path / "atlas"))
+    np.testing.assert_allclose(again.curve.mean, curve.mean, atol=1e-9)
+    patient = TriMesh(V * [1.05, 1.0, 0.97], sphere.F)
+    transfer = bcassim.atlas.transfer_atlas(again, patient, sigma_v=0.03, max_iterations=10)
+    # The mean curve lands on (near) the patient's surface, within the patient's extent.
+    r = np.linalg.norm(transfer.curve.mean / [0.0525, 0.05, 0.0485], axis=1)
+    assert np.all(np.abs(r - 1) < 0.1)
