@@ -52,6 +52,23 @@ TEST(IgtlMessages, DamagedBodyIsRefusedByItsCrc) {
   EXPECT_EQ(igtlPointsError(m), "POINT 'Markers': the body's CRC does not match its header");
 }
 
+// Found by fuzz/igtl_message.cpp: a frame without points has an empty body (the decoder copied
+// from a null pointer), and a device or point name is bytes from the wire, newlines included.
+TEST(IgtlMessages, EmptyFrameDecodesToNoPoints) {
+  const std::string m = encodeIgtlPoints("Markers", 1.0, "tracked", {});
+  ASSERT_EQ(decodeIgtlHeader(bytes(m)).bodySize, 0u);
+  const std::vector<unsigned char> header(m.begin(), m.end());
+  EXPECT_TRUE(decodeIgtlPoints(header.data(), nullptr).empty());
+}
+
+TEST(IgtlMessages, NamesFromTheWireAreShownOnOneLine) {
+  std::string m = encodeIgtlPoints("Mark\nrs", 1.0, "tracked", {{"a\rb", {0, 0, 0}, 0}});
+  EXPECT_EQ(decodeIgtlHeader(bytes(m)).device, "Mark\\x0ars");
+  EXPECT_EQ(decodeIgtlPoints(bytes(m), bytes(m) + kIgtlHeaderSize)[0].name, "a\\x0db");
+  m[kIgtlHeaderSize] ^= 1;  // the body no longer matches its CRC
+  EXPECT_EQ(igtlPointsError(m), "POINT 'Mark\\x0ars': the body's CRC does not match its header");
+}
+
 TEST(IgtlMessages, SurfaceIsAPolyDataOfItsTriangles) {
   Eigen::MatrixX3d v(3, 3);
   v << 0, 0, 0, 0.01, 0, 0, 0, 0.01, 0;

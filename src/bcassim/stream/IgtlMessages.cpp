@@ -33,6 +33,20 @@ std::string bytesOf(igtl::MessageBase& m) {
                      static_cast<std::size_t>(m.GetPackSize()));
 }
 
+// A name from the wire as it may appear in a one-line message: bytes outside printable ASCII
+// (a newline, a terminal escape) written as \xNN.
+std::string printable(const std::string& raw) {
+  std::string out;
+  for (const char c : raw) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f)
+      out += c;
+    else
+      out += fmt::format("\\x{:02x}", byte);
+  }
+  return out;
+}
+
 // "marker_<i>" or "<i>" -> i; -1 otherwise.
 long markerIndexOf(const std::string& name) {
   std::string digits = name;
@@ -56,8 +70,8 @@ IgtlHeader decodeIgtlHeader(const unsigned char* bytes) {
         "OpenIGTLink header: version {} (expected 1 or 2, the protocol of libopenigtlink 1.11)",
         version));
   IgtlHeader out;
-  out.type = std::string(h->GetDeviceType());
-  out.device = std::string(h->GetDeviceName());
+  out.type = printable(h->GetDeviceType());
+  out.device = printable(h->GetDeviceName());
   unsigned int sec = 0, frac = 0;
   h->GetTimeStamp(&sec, &frac);
   out.time = sec + std::ldexp(static_cast<double>(frac), -32);
@@ -72,11 +86,20 @@ std::vector<NamedPoint> decodeIgtlPoints(const unsigned char* header, const unsi
   h->InitPack();
   std::memcpy(h->GetPackPointer(), header, kIgtlHeaderSize);
   h->Unpack();
-  const std::string device(h->GetDeviceName());
+  const std::string device = printable(h->GetDeviceName());
   const std::uint64_t size = decodeIgtlHeader(header).bodySize;
   if (size % IGTL_POINT_ELEMENT_SIZE != 0)
     throw InputError(fmt::format("POINT '{}': body of {} bytes is not whole {}-byte elements",
                                  device, size, IGTL_POINT_ELEMENT_SIZE));
+  if (size == 0) {
+    // A frame without points (every marker hidden). The library's unpacking reports an empty
+    // body as a failed CRC; the CRC of no bytes is 0.
+    std::uint64_t crc = 0;
+    for (int i = 50; i < 58; ++i) crc = crc << 8 | header[i];
+    if (crc != 0)
+      throw InputError(fmt::format("POINT '{}': the body's CRC does not match its header", device));
+    return {};
+  }
   igtl::PointMessage::Pointer m = igtl::PointMessage::New();
   m->SetMessageHeader(h);
   m->AllocatePack();
@@ -89,7 +112,7 @@ std::vector<NamedPoint> decodeIgtlPoints(const unsigned char* header, const unsi
     m->GetPointElement(static_cast<int>(i), e);
     igtlFloat32 p[3];
     e->GetPosition(p);
-    points[i].name = e->GetName();
+    points[i].name = printable(e->GetName());
     points[i].position = Eigen::Vector3d(p[0], p[1], p[2]) / kMmPerM;
     points[i].radius = e->GetRadius() / kMmPerM;
   }
