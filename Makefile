@@ -53,18 +53,20 @@ fuzz: deps
 sanitize: deps
 	@JOBS=$(JOBS) bash scripts/sanitize.sh
 
-# The live engine's test under ThreadSanitizer (gcc, build-tsan/), to show its threads race-free.
-# Only test_live: live/ is the one room whose threads are ours; the others run in TBB and OpenMP,
+# The tests of the rooms whose threads are ours under ThreadSanitizer (gcc, build-tsan/), to show
+# them race-free: live/ (the asynchronous engine) and stream/ (the OpenIGTLink server's network
+# thread). Only those: the other rooms run in TBB and OpenMP,
 # whose system libraries are not built with TSan, so it would report their synchronisation as
 # races (false positives), and the whole suite under TSan would take hours on 2 cores.
 tsan: deps
 	@cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Release -DBCASSIM_TSAN=ON -DBCASSIM_BUILD_TESTS=ON \
 	  -DBCASSIM_BUILD_BENCH=OFF > build-tsan.configure.log 2>&1 || (cat build-tsan.configure.log; exit 1)
-	@cmake --build build-tsan -j$(JOBS) --target test_live
+	@cmake --build build-tsan -j$(JOBS) --target test_live test_stream
 	@TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" build-tsan/tests/test_live
+	@TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" build-tsan/tests/test_stream
 
 # What CI runs (.ci/run): the tests, the formatting, every fuzz target for 30 s, the sanitizer
-# suite, and the live engine under ThreadSanitizer (a minute or two).
+# suite, and the live engine and the OpenIGTLink server under ThreadSanitizer (a few minutes).
 ci: test
 	@bash scripts/check-format.sh
 	@$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=30
