@@ -2,6 +2,7 @@
 // with one name and one wording wherever they appear, and argument errors as one line, exit 2.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,7 @@ const std::vector<CommandOptions> kCommands = {
     {"atlas loo", true, false, false, true},       {"liver prepare", true, false, false, true},
     {"liver run", true, true, true, true},         {"liver tracked", true, true, true, true},
     {"track", true, false, false, false},          {"register", true, false, false, false},
+    {"ligament fit", true, false, false, false},
 };
 
 using test::contains;
@@ -71,8 +73,8 @@ TEST(CommandOptions, TopLevelHelpListsEveryGroup) {
   const auto dir = freshDir();
   const test::CliResult r = runBcassim(dir, "--help");
   EXPECT_EQ(r.exitCode, 0);
-  for (const char* name :
-       {"simulate", "assimilate", "validate", "mesh", "track", "register", "atlas", "liver"})
+  for (const char* name : {"simulate", "assimilate", "validate", "mesh", "track", "register",
+                           "atlas", "liver", "ligament"})
     EXPECT_TRUE(contains(r.out, name)) << name;
 }
 
@@ -90,9 +92,28 @@ TEST(CommandOptions, UnknownOptionIsOneLineAndExit2) {
   }
 }
 
+TEST(CommandOptions, LigamentFitRefusesACurveInMegapascalOrANegativeStretchInOneLine) {
+  const auto dir = freshDir();
+  std::ofstream(dir / "mpa.csv") << "strain,nominal_stress_MPa\n0,0\n0.1,0.01\n";
+  std::ofstream(dir / "negative.csv") << "stretch,cauchy_stress_Pa\n1,0\n-0.2,100\n";
+  const test::CliResult mpa = runBcassim(dir, "ligament fit mpa.csv");
+  EXPECT_EQ(mpa.exitCode, 2);
+  EXPECT_EQ(mpa.err,
+            "bcassim: error: mpa.csv:1: column nominal_stress_MPa: stress in MPa; expected Pa "
+            "(SI units), e.g. nominal_stress_Pa\n");
+  const test::CliResult negative = runBcassim(dir, "ligament fit negative.csv --model ogden");
+  EXPECT_EQ(negative.exitCode, 2);
+  EXPECT_EQ(negative.err,
+            "bcassim: error: negative.csv:3: stretch -0.2: expected a stretch > 0 (a strain > "
+            "-1)\n");
+  const test::CliResult bound = runBcassim(dir, "ligament fit mpa.csv --bound alpha");
+  EXPECT_EQ(bound.err,
+            "bcassim: error: --bound 'alpha': expected NAME=LOWER:UPPER, e.g. alpha=1:30\n");
+}
+
 TEST(CommandOptions, GroupWithoutCommandIsOneLineAndExit2) {
   const auto dir = freshDir();
-  for (const char* group : {"mesh", "atlas", "liver"}) {
+  for (const char* group : {"mesh", "atlas", "liver", "ligament"}) {
     const test::CliResult r = runBcassim(dir, group);
     EXPECT_EQ(r.exitCode, 2) << group;
     EXPECT_EQ(test::countLines(r.err), 1) << r.err;

@@ -46,6 +46,7 @@ std::vector<std::unique_ptr<Command>> allCommands() {
   commands.push_back(makeAtlasBuildCommand());
   commands.push_back(makeAtlasTransferCommand());
   commands.push_back(makeAtlasLooCommand());
+  commands.push_back(makeLigamentFitCommand());
   commands.push_back(makeLiverPrepareCommand());
   commands.push_back(makeLiverRunCommand());
   commands.push_back(makeLiverTrackedCommand());
@@ -56,6 +57,7 @@ std::vector<std::unique_ptr<Command>> allCommands() {
 const std::map<std::string, std::string> kGroupDescriptions = {
     {"mesh", "Mesh tools"},
     {"atlas", "Statistical atlas of ligament curves (LDDMM registration, thesis §4.3, §5.2)"},
+    {"ligament", "Ligament properties from tissue measurements (thesis §2.3.4, §4.4)"},
     {"liver", "The liver experiments of thesis §5.1 and §5.3 from a CT surface"}};
 
 // The error on one line, whatever the exception text holds.

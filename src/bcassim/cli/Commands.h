@@ -24,6 +24,8 @@ std::unique_ptr<Command> makeRegisterCommand();
 // StreamCommands.cpp
 std::unique_ptr<Command> makeServeCommand();
 std::unique_ptr<Command> makeReplayCommand();
+// LigamentCommands.cpp
+std::unique_ptr<Command> makeLigamentFitCommand();
 // AtlasCommands.cpp
 std::unique_ptr<Command> makeAtlasDistanceCommand();
 std::unique_ptr<Command> makeAtlasRegisterCommand();
