@@ -14,5 +14,6 @@ void bindScene(pybind11::module_& m);
 void bindAtlas(pybind11::module_& m);
 void bindTracking(pybind11::module_& m);
 void bindLiver(pybind11::module_& m);
+void bindCalibration(pybind11::module_& m);
 
 }  // namespace bcassim::python

@@ -26,6 +26,8 @@ PYBIND11_MODULE(_bcassim, m) {
   auto tracking =
       m.def_submodule("tracking", "Marker identities over frames, rigid registration (m)");
   bindTracking(tracking);
+  auto calibration = m.def_submodule("calibration", "Hyperelastic laws fitted to tissue curves");
+  bindCalibration(calibration);
   auto liver = m.def_submodule("liver", "The liver pipeline of thesis chapter 5");
   bindLiver(liver);
 }

@@ -1,5 +1,6 @@
-"""Tracking and atlas from Python: marker identities through shuffles and a dropout, rigid
-registration of points to a surface, surface distances and LDDMM registration. Metres."""
+"""Tracking, atlas and calibration from Python: marker identities through shuffles and a dropout,
+rigid registration of points to a surface, surface distances, LDDMM registration, a small atlas,
+a hyperelastic law fitted to a uniaxial curve. SI units."""
 import numpy as np
 import pytest
 
@@ -90,3 +91,18 @@ def test_a_small_atlas_is_built_and_transferred(tmp_path):
     # The mean curve lands on (near) the patient's surface, within the patient's extent.
     r = np.linalg.norm(transfer.curve.mean / [0.0525, 0.05, 0.0485], axis=1)
     assert np.all(np.abs(r - 1) < 0.1)
+
+
+def test_a_hyperelastic_law_is_fitted_to_a_curve(tmp_path):
+    stretch = np.linspace(1.01, 1.45, 20)
+    stress = bcassim.calibration.nominal_stress("ogden", [40e3, 6.0], stretch)
+    curve = bcassim.calibration.UniaxialCurve(stretch, stress)
+    fit = bcassim.calibration.fit_uniaxial(curve, "ogden")
+    assert fit.names == ["mu", "alpha"]
+    np.testing.assert_allclose(fit.parameters, [40e3, 6.0], rtol=1e-6)
+    bounded = bcassim.calibration.fit_uniaxial(curve, "ogden", bounds={"alpha": (1.0, 4.0)})
+    assert bounded.parameters[1] <= 4.0
+    path = tmp_path / "mpa.csv"
+    path.write_text("strain,nominal_stress_MPa\n0,0\n0.1,0.01\n")
+    with pytest.raises(bcassim.InputError, match="stress in MPa; expected Pa"):
+        bcassim.calibration.read_uniaxial_curve(str(path))
