@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "atlas/AtlasTestMeshes.h"
 #include "bcassim/atlas/FaceKernelDistance.h"
@@ -66,6 +67,55 @@ TEST(AtlasCli, DistancePrintsTheVarifoldDistanceAndBadInputIsOneLine) {
   EXPECT_EQ(noAtlas.code, 2);
   EXPECT_NE(noAtlas.err.find("nowhere: expected an atlas folder"), std::string::npos)
       << noAtlas.err;
+  fs::remove_all(dir);
+}
+
+// Numbers of a CSV file's data lines (header skipped).
+std::vector<std::vector<double>> csvNumbers(const fs::path& path) {
+  std::ifstream f(path);
+  std::string line;
+  std::getline(f, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(f, line)) {
+    std::vector<double> row;
+    std::stringstream ss(line);
+    for (std::string field; std::getline(ss, field, ',');) row.push_back(std::stod(field));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
+  const fs::path livers = fs::path(BCASSIM_SOURCE_DIR) / "../shared/data/livers";
+  if (!fs::exists(livers / "LiTS-3.eseg")) GTEST_SKIP() << "no annotated livers in " << livers;
+  const fs::path dir = fs::temp_directory_path() / "bcassim_atlas_cli_transfer";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const CliRun build = runCli(dir, "atlas build '" + livers.string() +
+                                       "' --max-livers 3 --no-frechet --iterations 5 --out atlas");
+  ASSERT_EQ(build.code, 0) << build.err;
+  const CliRun transfer =
+      runCli(dir, "atlas transfer atlas '" + (livers / "LiTS-3.obj").string() + "' --eseg '" +
+                      (livers / "LiTS-3.eseg").string() + "' --iterations 5 --out transfer");
+  ASSERT_EQ(transfer.code, 0) << transfer.err;
+  EXPECT_NE(transfer.out.find("distance to the expert curve: planes "), std::string::npos);
+  const auto metres = csvNumbers(dir / "transfer/ligament_curve.csv");
+  const auto fileUnits = csvNumbers(dir / "transfer/ligament_curve_file_units.csv");
+  ASSERT_EQ(metres.size(), fileUnits.size());
+  ASSERT_FALSE(metres.empty());
+  for (size_t i = 0; i < metres.size(); ++i)
+    for (size_t c = 0; c < 4; ++c)  // x, y, z, sigma: the livers are in mm
+      EXPECT_NEAR(fileUnits[i][c], 1e3 * metres[i][c], 1e-9 * std::abs(1e3 * metres[i][c]) + 1e-12);
+  const auto rigid = csvNumbers(dir / "transfer/rigid_transform.csv");
+  ASSERT_EQ(rigid.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {  // a rotation: R R^T = I
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += rigid[i][1 + k] * rigid[j][1 + k];
+      EXPECT_NEAR(dot, i == j ? 1.0 : 0.0, 1e-12);
+    }
+    EXPECT_NEAR(rigid[i][5], 1e3 * rigid[i][4], 1e-9);
+  }
   fs::remove_all(dir);
 }
 

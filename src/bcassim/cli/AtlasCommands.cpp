@@ -297,6 +297,18 @@ class AtlasBuildCommand : public Command {
   int threads_ = 0;
 };
 
+// rigid_transform.csv: the template-to-patient rotation (rows r0..r2) and translation, in metres
+// and in the patient file's units (metres / scale).
+void writeRigidTransform(const std::string& path, const RigidTransform& t, double scale) {
+  std::ofstream f(path);
+  f << "row,r0,r1,r2,translation_m,translation_file_units\n";
+  for (int i = 0; i < 3; ++i)
+    f << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", i, t.rotation(i, 0),
+                     t.rotation(i, 1), t.rotation(i, 2), t.translation(i),
+                     t.translation(i) / scale);
+  if (!f) throw OutputError(fmt::format("{}: cannot write", path));
+}
+
 class AtlasTransferCommand : public Command {
  public:
   AtlasTransferCommand()
@@ -329,6 +341,11 @@ class AtlasTransferCommand : public Command {
     writeCarriedCurveFiles(out.string(), tr.deformedTemplate, tr.curve);
     writePointsCsv((out / "ligament_curve.csv").string(), tr.curve.mean,
                    {{"sigma", tr.curve.sigma}});
+    // The same curve in the patient file's own units (e.g. mm for the CT livers), for tools that
+    // read the surface as it is stored.
+    writePointsCsv((out / "ligament_curve_file_units.csv").string(), tr.curve.mean / scale_,
+                   {{"sigma", tr.curve.sigma / scale_}});
+    writeRigidTransform((out / "rigid_transform.csv").string(), tr.rigid, scale_);
     writeSurface((out / "patient.vtp").string(), patient);
     fmt::print("registration: {} iterations, data {:.4g} -> {:.4g}; {} curve points, {:.1f} s\n",
                tr.registration.iterations, tr.registration.initialData, tr.registration.data,
@@ -341,10 +358,13 @@ class AtlasTransferCommand : public Command {
       const CurveDistance d =
           compareCurves(expert, tr.curve.mean,
                         transformed(atlas.curve.planes, tr.rigid.rotation, tr.rigid.translation));
-      fmt::print(
-          "distance to the expert curve: planes {} mean {:.1f} mm max {:.1f} mm; points mean "
-          "{:.1f} mm max {:.1f} mm\n",
-          d.planes, 1e3 * d.planeMean, 1e3 * d.planeMax, 1e3 * d.pointMean, 1e3 * d.pointMax);
+      // No plane crossed by both curves: the per-plane distance is undefined, not zero.
+      const std::string perPlane =
+          d.planes == 0 ? "planes 0 (no plane crosses both curves): per-plane distance undefined"
+                        : fmt::format("planes {} mean {:.1f} mm max {:.1f} mm", d.planes,
+                                      1e3 * d.planeMean, 1e3 * d.planeMax);
+      fmt::print("distance to the expert curve: {}; points mean {:.1f} mm max {:.1f} mm\n",
+                 perPlane, 1e3 * d.pointMean, 1e3 * d.pointMax);
     }
     fmt::print("wrote {} (x,y,z,sigma in m, patient frame) and .vtp files\n",
                (out / "ligament_curve.csv").string());
@@ -375,8 +395,12 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
   int counted = 0;
   for (const LeaveOneOutFold& fold : r.folds) {
     const CurveDistance& d = fold.distance;
-    f << subjects[fold.subject].name << ',' << d.planes << ',' << 1e3 * d.planeMean << ','
-      << 1e3 * d.planeMax << ',' << 1e3 * d.pointMean << ',' << 1e3 * d.pointMax << ','
+    // Empty fields where no plane crosses both curves: undefined, not 0 mm.
+    const auto perPlane = [&](double metres) {
+      return d.planes == 0 ? std::string() : fmt::format("{}", 1e3 * metres);
+    };
+    f << subjects[fold.subject].name << ',' << d.planes << ',' << perPlane(d.planeMean) << ','
+      << perPlane(d.planeMax) << ',' << 1e3 * d.pointMean << ',' << 1e3 * d.pointMax << ','
       << 1e3 * fold.rigidOnly.planeMean << ',' << 1e3 * fold.rigidOnly.planeMax << ','
       << 1e3 * fold.median.planeMean << ',' << 1e3 * fold.median.planeMax << ',' << fold.atlasPoints
       << ',' << 1e3 * r.alignmentRms[fold.subject] << ',' << r.dataRatio[fold.subject] << ','
