@@ -82,6 +82,22 @@ Observation observationFromValues(Eigen::VectorXd values, std::optional<double> 
   return y;
 }
 
+// The filter of handle type H (FilterT over OptionsT), once the kind's own options are set: the
+// options every filter shares, its models and executor.
+template <class H, class FilterT, class OptionsT>
+std::unique_ptr<H> makeFilter(const StochasticState& layout, const py::object& models, int threads,
+                              OptionsT o, const std::optional<Eigen::VectorXd>& q, bool firstAlone,
+                              const py::object& observation) {
+  auto h = std::make_unique<H>();
+  o.processVariance = processVarianceOf(q);
+  o.firstSigmaPointAlone = firstAlone;
+  o.observation = observationFor(*h, observation);
+  auto raw = modelsFor(*h, models, threads);
+  h->layout = std::make_unique<StochasticState>(layout);
+  h->filter = std::make_unique<FilterT>(layout, raw, *h->executor, o);
+  return h;
+}
+
 }  // namespace
 
 void bindAssimilation(py::module_& m) {
@@ -200,16 +216,10 @@ void bindAssimilation(py::module_& m) {
       .def(py::init([](const StochasticState& layout, const py::object& models, int threads,
                        const std::string& sigmaPoints, std::optional<Eigen::VectorXd> q,
                        bool firstAlone, const py::object& observation) {
-             auto h = std::make_unique<RoukfHandle>();
              RoukfOptions o;
              o.sigmaPoints = parseSigmaPointKind(sigmaPoints);
-             o.processVariance = processVarianceOf(q);
-             o.firstSigmaPointAlone = firstAlone;
-             o.observation = observationFor(*h, observation);
-             auto raw = modelsFor(*h, models, threads);
-             h->layout = std::make_unique<StochasticState>(layout);
-             h->filter = std::make_unique<RoukfFilter>(layout, raw, *h->executor, o);
-             return h;
+             return makeFilter<RoukfHandle, RoukfFilter>(layout, models, threads, o, q, firstAlone,
+                                                         observation);
            }),
            "layout"_a, "models"_a, "threads"_a = 1, "sigma_points"_a = "simplex",
            "process_variance"_a = py::none(), "first_alone"_a = false, "observation"_a = py::none(),
@@ -221,18 +231,12 @@ void bindAssimilation(py::module_& m) {
                        const std::string& sigmaPoints, double spread, double kappa,
                        std::optional<Eigen::VectorXd> q, bool firstAlone,
                        const py::object& observation) {
-             auto h = std::make_unique<UkfHandle>();
              UkfOptions o;
              o.sigmaPoints = parseSigmaPointKind(sigmaPoints);
              o.spread = spread;
              o.starKappa = kappa;
-             o.processVariance = processVarianceOf(q);
-             o.firstSigmaPointAlone = firstAlone;
-             o.observation = observationFor(*h, observation);
-             auto raw = modelsFor(*h, models, threads);
-             h->layout = std::make_unique<StochasticState>(layout);
-             h->filter = std::make_unique<UkfFilter>(layout, raw, *h->executor, o);
-             return h;
+             return makeFilter<UkfHandle, UkfFilter>(layout, models, threads, o, q, firstAlone,
+                                                     observation);
            }),
            "layout"_a, "models"_a, "threads"_a = 1, "sigma_points"_a = "star", "spread"_a = 1.0,
            "kappa"_a = 0.0, "process_variance"_a = py::none(), "first_alone"_a = false,
@@ -243,17 +247,11 @@ void bindAssimilation(py::module_& m) {
       .def(py::init([](const StochasticState& layout, const py::object& models, int threads,
                        int members, std::uint64_t seed, std::optional<Eigen::VectorXd> q,
                        bool firstAlone, const py::object& observation) {
-             auto h = std::make_unique<EtkfHandle>();
              EtkfOptions o;
              o.members = members;
              o.seed = seed;
-             o.processVariance = processVarianceOf(q);
-             o.firstSigmaPointAlone = firstAlone;
-             o.observation = observationFor(*h, observation);
-             auto raw = modelsFor(*h, models, threads);
-             h->layout = std::make_unique<StochasticState>(layout);
-             h->filter = std::make_unique<EtkfFilter>(layout, raw, *h->executor, o);
-             return h;
+             return makeFilter<EtkfHandle, EtkfFilter>(layout, models, threads, o, q, firstAlone,
+                                                       observation);
            }),
            "layout"_a, "models"_a, "threads"_a = 1, "members"_a = 10, "seed"_a = 1,
            "process_variance"_a = py::none(), "first_alone"_a = false, "observation"_a = py::none())
