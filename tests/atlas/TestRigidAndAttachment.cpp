@@ -61,6 +61,31 @@ TEST(RigidAlignment, MultiStartIcpUndoesAHalfTurn) {
   EXPECT_LT((r.rotation - t.rotation).cwiseAbs().maxCoeff(), 1e-3);
   EXPECT_LT((r.translation - t.translation).norm(), 1e-4);
   EXPECT_LT(rms, 1e-4);  // of a 0.1 m shape (ICP converges slowly near the end)
+
+  // The same motion is an implausible pose for shapes in a scanner's axes: refused beyond 90
+  // degrees, and said so with the better fit's rotation and residual.
+  MultiStartReport report;
+  double limitedRms = 0.0;
+  const RigidTransform limited =
+      alignRigidlyMultiStart(source, target, {}, 8, &limitedRms, 90.0, &report);
+  EXPECT_LE(rotationAngleDegrees(limited.rotation), 90.0 + 1.0);
+  EXPECT_DOUBLE_EQ(report.rotationDegrees, rotationAngleDegrees(limited.rotation));
+  EXPECT_DOUBLE_EQ(report.rms, limitedRms);
+  EXPECT_TRUE(report.rejected);
+  EXPECT_NEAR(report.rejectedRotationDegrees, 180.0 - 0.15 * 180.0 / M_PI, 0.1);
+  EXPECT_LT(report.rejectedRms, 1e-4);
+  EXPECT_GT(limitedRms, 10 * report.rejectedRms);
+  // Within the limit nothing is refused.
+  alignRigidlyMultiStart(source, target, {}, 8, nullptr, 180.0, &report);
+  EXPECT_FALSE(report.rejected);
+}
+
+TEST(RigidAlignment, RotationAngleOfAxisAngles) {
+  for (double degrees : {0.0, 30.0, 90.0, 165.6, 180.0})
+    EXPECT_NEAR(rotationAngleDegrees(
+                    Eigen::AngleAxisd(degrees * M_PI / 180.0, Eigen::Vector3d(1, 2, 3).normalized())
+                        .toRotationMatrix()),
+                degrees, 1e-6);
 }
 
 TEST(SurfaceAttachment, StoredCoordinatesGiveTheSamePositions) {

@@ -58,7 +58,15 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
         s.V *= res.scale[i];
         c *= res.scale[i];
       }
-      const RigidTransform t = alignRigidlyMultiStart(s, templ, {}, 8, &res.alignmentRms[i]);
+      MultiStartReport rep;
+      const RigidTransform t = alignRigidlyMultiStart(s, templ, {}, 8, &res.alignmentRms[i],
+                                                      o.atlas.maxRotationDegrees, &rep);
+      if (rep.rejected)
+        say(fmt::format(
+            "{}: the best rigid fit turns it {:.0f} deg (RMS {:.1f} mm), implausible for livers in "
+            "scanner axes; kept the best within {:.0f} deg: {:.0f} deg (RMS {:.1f} mm)",
+            subjects[i].name, rep.rejectedRotationDegrees, 1e3 * rep.rejectedRms,
+            o.atlas.maxRotationDegrees, rep.rotationDegrees, 1e3 * rep.rms));
       s.V = t.apply(s.V);
       c = t.apply(c);
     }

@@ -6,11 +6,12 @@ namespace bcassim {
 
 AtlasTransfer transferAtlas(const LigamentAtlas& atlas, const TriMesh& patient,
                             const RegistrationOptions& options, bool rigidAlign,
-                            bool projectOntoPatient) {
+                            bool projectOntoPatient, double maxRotationDegrees) {
   if (patient.F.rows() == 0) throw InputError("atlas transfer: the patient surface has no faces");
   AtlasTransfer t;
   if (rigidAlign) {
-    t.rigid = alignRigidlyMultiStart(atlas.templ, patient, {}, 8, &t.rigidRms);
+    t.rigid = alignRigidlyMultiStart(atlas.templ, patient, {}, 8, &t.rigidRms, maxRotationDegrees,
+                                     &t.rigidReport);
   } else {
     t.rigid.translation = Eigen::Vector3d::Zero();
   }

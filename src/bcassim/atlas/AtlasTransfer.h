@@ -10,6 +10,7 @@ namespace bcassim {
 struct AtlasTransfer {
   RigidTransform rigid;             // template frame -> patient frame
   double rigidRms = 0.0;            // residual of the rigid alignment (m)
+  MultiStartReport rigidReport;     // its rotation, and a better fit refused as implausible
   RegistrationResult registration;  // of the rigidly moved template onto the patient
   TriMesh deformedTemplate;         // template at the end of the registration (patient frame)
   CarriedCurve curve;               // mean curve, band and sigma on the patient (m)
@@ -17,9 +18,12 @@ struct AtlasTransfer {
 
 // patient: surface in its own frame (m). Control points default to a grid over the rigidly
 // moved template. projectOntoPatient: the carried curve and band are moved to their closest
-// points on the patient's surface (projectOnto). Throws InputError on a patient without faces.
+// points on the patient's surface (projectOnto). maxRotationDegrees: a rigid fit turning the
+// template further is refused (RigidAlignment.h; 180 for a patient in any orientation). Throws
+// InputError on a patient without faces.
 AtlasTransfer transferAtlas(const LigamentAtlas& atlas, const TriMesh& patient,
                             const RegistrationOptions& options = {}, bool rigidAlign = true,
-                            bool projectOntoPatient = false);
+                            bool projectOntoPatient = false,
+                            double maxRotationDegrees = kScannerFrameMaxRotationDegrees);
 
 }  // namespace bcassim

@@ -101,8 +101,15 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
     shapes[i].V.rowwise() -= ci;
     curves[i].rowwise() -= ci;
     if (o.rigidAlign && i != o.templateSubject) {
-      const RigidTransform t =
-          alignRigidlyMultiStart(shapes[i], initial, {}, 8, &atlas.alignmentRms[i]);
+      MultiStartReport rep;
+      const RigidTransform t = alignRigidlyMultiStart(
+          shapes[i], initial, {}, 8, &atlas.alignmentRms[i], o.maxRotationDegrees, &rep);
+      if (rep.rejected)
+        say(fmt::format(
+            "{}: the best rigid fit turns it {:.0f} deg (RMS {:.1f} mm), implausible for livers in "
+            "scanner axes; kept the best within {:.0f} deg: {:.0f} deg (RMS {:.1f} mm)",
+            subjects[i].name, rep.rejectedRotationDegrees, 1e3 * rep.rejectedRms,
+            o.maxRotationDegrees, rep.rotationDegrees, 1e3 * rep.rms));
       shapes[i].V = t.apply(shapes[i].V);
       curves[i] = t.apply(curves[i]);
     }

@@ -323,6 +323,11 @@ class AtlasTransferCommand : public Command {
     app.add_option("--eseg", eseg_, "Expert .eseg of the patient: report the distance to it");
     app.add_option("--label", label_, kCurveLabelHelp)->capture_default_str();
     addScaleOption(app, scale_);
+    app.add_option("--max-rotation", maxRotation_,
+                   "Largest rotation (degrees) of the template onto the patient: livers from CT "
+                   "lie in their scanner's axes; 180 accepts any orientation")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 180.0));
     app.add_flag("--project", project_,
                  "Move the transferred curve and band to their closest points on the patient's "
                  "surface (the registration leaves the deformed template a few mm off it)");
@@ -335,7 +340,17 @@ class AtlasTransferCommand : public Command {
     const auto t0 = Clock::now();
     const LigamentAtlas atlas = readLigamentAtlas(atlas_);
     const TriMesh patient = readScaled(patient_, scale_);
-    const AtlasTransfer tr = transferAtlas(atlas, patient, reg_.options(), true, project_);
+    const AtlasTransfer tr =
+        transferAtlas(atlas, patient, reg_.options(), true, project_, maxRotation_);
+    const MultiStartReport& rigid = tr.rigidReport;
+    fmt::print("rigid alignment: turns the template {:.1f} deg, RMS {:.1f} mm\n",
+               rigid.rotationDegrees, 1e3 * rigid.rms);
+    if (rigid.rejected)
+      fmt::print(
+          "implausible pose refused: the best rigid fit turns the template {:.1f} deg (RMS {:.1f} "
+          "mm), more than --max-rotation {:g} deg for livers in scanner axes; the fit above is "
+          "the best within it (--max-rotation 180 accepts any orientation)\n",
+          rigid.rejectedRotationDegrees, 1e3 * rigid.rejectedRms, maxRotation_);
     const fs::path out(out_);
     fs::create_directories(out);
     writeCarriedCurveFiles(out.string(), tr.deformedTemplate, tr.curve);
@@ -376,6 +391,7 @@ class AtlasTransferCommand : public Command {
   std::string atlas_, patient_, out_ = "out/atlas-transfer", eseg_;
   int label_ = 2;
   double scale_ = 1e-3;
+  double maxRotation_ = kScannerFrameMaxRotationDegrees;
   bool project_ = false;
   RegistrationFlags reg_;
   int threads_ = 0;
