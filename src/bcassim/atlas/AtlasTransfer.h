@@ -19,11 +19,10 @@ struct AtlasTransfer {
 // patient: surface in its own frame (m). Control points default to a grid over the rigidly
 // moved template. projectOntoPatient: the carried curve and band are moved to their closest
 // points on the patient's surface (projectOnto). maxRotationDegrees: a rigid fit turning the
-// template further is refused (RigidAlignment.h; 180 for a patient in any orientation). Throws
-// InputError on a patient without faces.
+// template further is refused (RigidAlignment.h; kScannerFrameMaxRotationDegrees for CT livers,
+// as the atlas commands do). Throws InputError on a patient without faces.
 AtlasTransfer transferAtlas(const LigamentAtlas& atlas, const TriMesh& patient,
                             const RegistrationOptions& options = {}, bool rigidAlign = true,
-                            bool projectOntoPatient = false,
-                            double maxRotationDegrees = kScannerFrameMaxRotationDegrees);
+                            bool projectOntoPatient = false, double maxRotationDegrees = 180.0);
 
 }  // namespace bcassim

@@ -28,9 +28,10 @@ struct LigamentAtlasOptions {
   bool frechetMean = true;
   int templateSubject = 0;  // subject whose (centred) surface starts the template
   bool rigidAlign = true;   // multi-start ICP of every subject onto the template subject
-  // A fit turning a subject further than this is refused as implausible (RigidAlignment.h); 180:
-  // livers in arbitrary orientations.
-  double maxRotationDegrees = kScannerFrameMaxRotationDegrees;
+  // A fit turning a subject further than this is refused as implausible (RigidAlignment.h):
+  // kScannerFrameMaxRotationDegrees for CT livers in their scanner's axes (the atlas commands'
+  // default); 180 accepts shapes in any orientation.
+  double maxRotationDegrees = 180.0;
   // Cutting planes. Radial (falciform, thesis §5.2): they contain the transverse axis (in the
   // template subject's frame) through the template's bounding-box centre; angles cover
   // [-90, 90] degrees around the mean direction of the curves, every planeStepDegrees.

@@ -52,7 +52,14 @@ struct RegistrationFlags {
   double sigmaV = 0.03, sigmaW = 0.02;
   int iterations = 100;
   std::string kernel = "varifold";
+  double maxRotation = kScannerFrameMaxRotationDegrees;
   void add(CLI::App& c) {
+    c.add_option("--max-rotation", maxRotation,
+                 "Largest rotation (degrees) of the rigid pre-alignment: livers from CT lie in "
+                 "their scanner's axes, a fit turning one further is refused; 180 accepts any "
+                 "orientation")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 180.0));
     c.add_option("--sigma-v", sigmaV, "Deformation kernel width and control-point spacing (m)")
         ->capture_default_str();
     c.add_option("--sigma-w", sigmaW, "Data-term kernel width (m)")->capture_default_str();
@@ -70,6 +77,18 @@ struct RegistrationFlags {
     return o;
   }
 };
+
+// The rigid pre-alignment's rotation and residual, and a better fit refused as implausible.
+void printRigidAlignment(const MultiStartReport& r, double maxRotation) {
+  fmt::print("rigid alignment: turns the source {:.1f} deg, RMS closest-point distance {:.2f} mm\n",
+             r.rotationDegrees, 1e3 * r.rms);
+  if (r.rejected)
+    fmt::print(
+        "implausible pose refused: a rigid fit turning it {:.1f} deg (RMS {:.2f} mm) is beyond "
+        "--max-rotation {:g} deg for livers in scanner axes; the fit above is the best within it "
+        "(--max-rotation 180 accepts any orientation)\n",
+        r.rejectedRotationDegrees, 1e3 * r.rejectedRms, maxRotation);
+}
 
 void plotAtlas(const fs::path& dir, const std::string& title) {
   std::fflush(stdout);
@@ -176,10 +195,11 @@ class AtlasRegisterCommand : public Command {
     const fs::path out(out_);
     fs::create_directories(out);
     if (rigid_) {
-      double rms = 0.0;
-      const RigidTransform t = alignRigidlyMultiStart(source, target, {}, 8, &rms);
+      MultiStartReport report;
+      const RigidTransform t =
+          alignRigidlyMultiStart(source, target, {}, 8, nullptr, reg_.maxRotation, &report);
       source.V = t.apply(source.V);
-      fmt::print("rigid alignment: RMS closest-point distance {:.2f} mm\n", 1e3 * rms);
+      printRigidAlignment(report, reg_.maxRotation);
     }
     const auto t0 = Clock::now();
     const RegistrationResult res = registerSurface(source, target, reg_.options());
@@ -260,6 +280,7 @@ class AtlasBuildCommand : public Command {
     fmt::print("{} livers from {}\n", livers.subjects.size(), dir_);
     LigamentAtlasOptions o;
     o.registration = reg_.options();
+    o.maxRotationDegrees = reg_.maxRotation;
     o.frechetMean = !noFrechet_;
     o.planeStepDegrees = planeStep_;
     o.minCrossingFraction = minCrossing_;
@@ -323,11 +344,6 @@ class AtlasTransferCommand : public Command {
     app.add_option("--eseg", eseg_, "Expert .eseg of the patient: report the distance to it");
     app.add_option("--label", label_, kCurveLabelHelp)->capture_default_str();
     addScaleOption(app, scale_);
-    app.add_option("--max-rotation", maxRotation_,
-                   "Largest rotation (degrees) of the template onto the patient: livers from CT "
-                   "lie in their scanner's axes; 180 accepts any orientation")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 180.0));
     app.add_flag("--project", project_,
                  "Move the transferred curve and band to their closest points on the patient's "
                  "surface (the registration leaves the deformed template a few mm off it)");
@@ -341,16 +357,8 @@ class AtlasTransferCommand : public Command {
     const LigamentAtlas atlas = readLigamentAtlas(atlas_);
     const TriMesh patient = readScaled(patient_, scale_);
     const AtlasTransfer tr =
-        transferAtlas(atlas, patient, reg_.options(), true, project_, maxRotation_);
-    const MultiStartReport& rigid = tr.rigidReport;
-    fmt::print("rigid alignment: turns the template {:.1f} deg, RMS {:.1f} mm\n",
-               rigid.rotationDegrees, 1e3 * rigid.rms);
-    if (rigid.rejected)
-      fmt::print(
-          "implausible pose refused: the best rigid fit turns the template {:.1f} deg (RMS {:.1f} "
-          "mm), more than --max-rotation {:g} deg for livers in scanner axes; the fit above is "
-          "the best within it (--max-rotation 180 accepts any orientation)\n",
-          rigid.rejectedRotationDegrees, 1e3 * rigid.rejectedRms, maxRotation_);
+        transferAtlas(atlas, patient, reg_.options(), true, project_, reg_.maxRotation);
+    printRigidAlignment(tr.rigidReport, reg_.maxRotation);
     const fs::path out(out_);
     fs::create_directories(out);
     writeCarriedCurveFiles(out.string(), tr.deformedTemplate, tr.curve);
@@ -391,7 +399,6 @@ class AtlasTransferCommand : public Command {
   std::string atlas_, patient_, out_ = "out/atlas-transfer", eseg_;
   int label_ = 2;
   double scale_ = 1e-3;
-  double maxRotation_ = kScannerFrameMaxRotationDegrees;
   bool project_ = false;
   RegistrationFlags reg_;
   int threads_ = 0;
@@ -515,6 +522,7 @@ class AtlasLooCommand : public Command {
     }
     LeaveOneOutOptions o;
     o.atlas.registration = reg_.options();
+    o.atlas.maxRotationDegrees = reg_.maxRotation;
     o.atlas.planeStepDegrees = planeStep_;
     o.atlas.minCrossingFraction = minCrossing_;
     o.atlas.centre = parseCentre(centre_);
