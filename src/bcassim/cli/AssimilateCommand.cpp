@@ -156,7 +156,7 @@ class AssimilateCommand : public Command {
   }
 
   // The run with the filter (alone, or rank 0 of `ranks` with `distribution`), printing.
-  int runFilter(ForecastDistribution* distribution, int ranks) {
+  int runFilter(MpiForecastDistribution* distribution, int ranks) {
     const io::OutputDirectoryLock lock(args_.outDir);
     std::string threads;
     Scene scene = loadWithThreads(&threads);
@@ -170,8 +170,20 @@ class AssimilateCommand : public Command {
         runAssimilation(scene, args_.outDir, progress, resume_, nullptr, distribution);
     bar.finish();
     printSummary(result, true);
+    if (distribution && distribution->stats().steps > 0) printTransfers(distribution->stats());
     if (!args_.noPlots) plot(args_.outDir);
     return 0;
+  }
+
+  // What went between the ranks per step, for the cost model (docs/benchmarks.md §8).
+  static void printTransfers(const MpiTransferStats& t) {
+    const double n = t.steps;
+    fmt::print(
+        "MPI: per step {:.4g} MB to the other ranks, {:.4g} MB back; rank 0 {:.3g} ms sending "
+        "the sigma points, {:.3g} ms receiving the forecasts (waiting included), {:.3g} ms "
+        "sending the mean\n",
+        1e-6 * t.sentBytes / n, 1e-6 * t.receivedBytes / n, 1e3 * t.sendSeconds / n,
+        1e3 * t.receiveSeconds / n, 1e3 * t.endStepSeconds / n);
   }
 
   // A worker rank: the same scene and models, silent; its errors go to rank 0, which prints

@@ -84,6 +84,7 @@ void MpiForecastDistribution::updateEndNotice() {
 void MpiForecastDistribution::send(const Eigen::MatrixXd& points) {
   const Clock::time_point start = Clock::now();
   sent_ = blocks(static_cast<int>(points.cols()));
+  ++stats_.steps;
   for (int r = 1; r < size_; ++r) {
     const Block& b = sent_[static_cast<size_t>(r)];
     if (b.count == 0) continue;

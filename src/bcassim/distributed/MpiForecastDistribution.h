@@ -13,6 +13,7 @@ namespace bcassim {
 
 // What one step moved between the ranks, for the benchmarks' cost model.
 struct MpiTransferStats {
+  int steps = 0;                            // forecasts sent (one per step)
   double sentBytes = 0, receivedBytes = 0;  // payloads of forecasts and endStep
   double sendSeconds = 0;                   // rank 0 in send(): columns out
   double receiveSeconds = 0;                // rank 0 in receive(): waiting and columns in
