@@ -49,6 +49,11 @@ const char* kMpiRoukf = "assimilation:\n  sigma_points: star\n  tangent: mean\n"
 const char* kMpiUkf =
     "assimilation:\n  filter: ukf\n  sigma_points: simplex\n  sigma_spread: 0.13\n"
     "  state: {positions: true, velocities: false}\n  reuse_factorization: false\n";
+// Positions only with the mean's tangent: every worker continues its reference with the tangent
+// of the step that ends (SharedFactorization::endStepTangent), whichever worker rebuilds it.
+const char* kMpiUkfMeanTangent =
+    "assimilation:\n  filter: ukf\n  sigma_points: simplex\n  sigma_spread: 0.13\n"
+    "  state: {positions: true, velocities: false}\n  tangent: mean\n";
 const char* kMpiEtkf =
     "assimilation:\n  filter: etkf\n  members: 7\n  reuse_factorization: false\n"
     "  state: {positions: true, velocities: true}\n";
@@ -157,6 +162,9 @@ TEST(MpiExecutor, RoukfOnThreeRanksGivesTheThreadedEstimates) {
   expectRanksMatchThreads(kMpiRoukf);
 }
 TEST(MpiExecutor, UkfOnThreeRanksGivesTheThreadedEstimates) { expectRanksMatchThreads(kMpiUkf); }
+TEST(MpiExecutor, UkfWithTheMeansTangentOnThreeRanksGivesTheThreadedEstimates) {
+  expectRanksMatchThreads(kMpiUkfMeanTangent);
+}
 TEST(MpiExecutor, EtkfOnThreeRanksGivesTheThreadedEstimates) { expectRanksMatchThreads(kMpiEtkf); }
 
 // A full-state UKF with its sigma points sqrt(n) standard deviations out and no log transform:
