@@ -205,6 +205,11 @@ class AssimilateCommand : public Command {
 
   // The line rank 0 prints when the job is ended during `step` while `ranks` owed forecasts.
   std::string jobEndLine(int step, const std::string& ranks) const {
+    if (step == 0)
+      return fmt::format(
+          "bcassim: error: {}: the MPI job was ended before the first assimilation step (a rank "
+          "died, or mpirun was stopped)",
+          args_.scenePath);
     const int checkpoint =
         checkpointEvery_ > 0 ? (step - 1) / checkpointEvery_ * checkpointEvery_ : 0;
     return fmt::format(

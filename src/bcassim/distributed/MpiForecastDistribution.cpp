@@ -35,6 +35,17 @@ void sendHeader(const proto::Header& h, int rank) {
   }
 }
 
+// Receives and drops the next payload from `rank` (an answer that cannot be used).
+void dropPayload(int rank) {
+  MPI_Status status;
+  int bytes = 0;
+  if (MPI_Probe(rank, proto::kAnswerPayloadTag, MPI_COMM_WORLD, &status) != MPI_SUCCESS) return;
+  MPI_Get_count(&status, MPI_BYTE, &bytes);
+  std::vector<char> dropped(static_cast<size_t>(bytes));
+  MPI_Recv(dropped.data(), bytes, MPI_BYTE, rank, proto::kAnswerPayloadTag, MPI_COMM_WORLD,
+           MPI_STATUS_IGNORE);
+}
+
 }  // namespace
 
 MpiForecastDistribution::MpiForecastDistribution(
@@ -42,7 +53,9 @@ MpiForecastDistribution::MpiForecastDistribution(
     : size_(session.size()),
       describeEnd_(std::move(describeEnd)),
       sent_(static_cast<size_t>(session.size())),
-      pending_(static_cast<size_t>(session.size()), false) {}
+      pending_(static_cast<size_t>(session.size()), false) {
+  updateEndNotice();
+}
 
 MpiForecastDistribution::~MpiForecastDistribution() {
   drain();
@@ -109,16 +122,20 @@ void MpiForecastDistribution::receive(Eigen::MatrixXd& forecasts, Eigen::MatrixX
     for (int r = 1; r < size_; ++r) owed += pending_[static_cast<size_t>(r)] ? 1 : 0;
     if (owed == 0) break;
     proto::Header h{};
-    MPI_Status status;
-    checkMpi(MPI_Recv(h.data(), 4, MPI_INT32_T, MPI_ANY_SOURCE, proto::kAnswerTag, MPI_COMM_WORLD,
-                      &status),
-             "receiving a forecast's answer");
-    const int r = status.MPI_SOURCE;
+    const int r = waitForMessage(-1, proto::kAnswerTag, "waiting for a forecast's answer");
+    checkMpi(
+        MPI_Recv(h.data(), 4, MPI_INT32_T, r, proto::kAnswerTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+        "receiving a forecast's answer");
     const Block& b = sent_[static_cast<size_t>(r)];
-    if (h[0] == proto::kOk) {
-      if (h[1] != forecasts.rows() || h[2] != observables.rows() || h[3] != b.count)
-        throw std::logic_error(fmt::format("rank {} answered {} x {} forecasts, expected {} x {}",
-                                           r, h[1], h[3], forecasts.rows(), b.count));
+    if (h[0] == proto::kOk &&
+        (h[1] != forecasts.rows() || h[2] != observables.rows() || h[3] != b.count)) {
+      dropPayload(r);
+      dropPayload(r);
+      if (!failure)
+        failure.emplace(proto::kOtherError,
+                        fmt::format("MPI rank {} answered {} x {} forecasts, expected {} x {}", r,
+                                    h[1], h[3], forecasts.rows(), b.count));
+    } else if (h[0] == proto::kOk) {
       const int n = h[1] * h[3], m = h[2] * h[3];
       checkMpi(MPI_Recv(forecasts.col(b.first).data(), n, MPI_DOUBLE, r, proto::kAnswerPayloadTag,
                         MPI_COMM_WORLD, MPI_STATUS_IGNORE),
@@ -163,15 +180,7 @@ void MpiForecastDistribution::drain() noexcept {
                  MPI_STATUS_IGNORE) != MPI_SUCCESS)
       continue;
     const int payloads = h[0] == proto::kOk ? 2 : 1;
-    for (int p = 0; p < payloads; ++p) {
-      MPI_Status status;
-      int bytes = 0;
-      if (MPI_Probe(r, proto::kAnswerPayloadTag, MPI_COMM_WORLD, &status) != MPI_SUCCESS) break;
-      MPI_Get_count(&status, MPI_BYTE, &bytes);
-      std::vector<char> dropped(static_cast<size_t>(bytes));
-      MPI_Recv(dropped.data(), bytes, MPI_BYTE, r, proto::kAnswerPayloadTag, MPI_COMM_WORLD,
-               MPI_STATUS_IGNORE);
-    }
+    for (int p = 0; p < payloads; ++p) dropPayload(r);
     pending_[static_cast<size_t>(r)] = false;
   }
 }

@@ -71,6 +71,7 @@ void MpiForecastServer::serveUntilStop(ForecastEnsemble* ensemble) {
   Eigen::VectorXd mean;
   for (;;) {
     proto::Header h{};
+    waitForMessage(0, proto::kCommandTag, "waiting for a command from rank 0");
     checkMpi(MPI_Recv(h.data(), 4, MPI_INT32_T, 0, proto::kCommandTag, MPI_COMM_WORLD,
                       MPI_STATUS_IGNORE),
              "receiving a command from rank 0");

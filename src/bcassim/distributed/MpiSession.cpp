@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <mpi.h>
 
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 
 namespace bcassim {
 
@@ -23,6 +25,18 @@ void checkMpi(int rc, const std::string& what) {
   int length = 0;
   MPI_Error_string(rc, reason, &length);
   throw std::runtime_error(fmt::format("MPI: {}: {}", what, std::string(reason, length)));
+}
+
+int waitForMessage(int source, int tag, const std::string& what) {
+  for (;;) {
+    int arrived = 0;
+    MPI_Status status;
+    checkMpi(
+        MPI_Iprobe(source < 0 ? MPI_ANY_SOURCE : source, tag, MPI_COMM_WORLD, &arrived, &status),
+        what);
+    if (arrived) return status.MPI_SOURCE;
+    std::this_thread::sleep_for(std::chrono::microseconds(50));
+  }
 }
 
 }  // namespace bcassim

@@ -24,4 +24,10 @@ class MpiSession {
 // Throws std::runtime_error "MPI: <what>: <MPI's reason>" unless rc is MPI_SUCCESS.
 void checkMpi(int rc, const std::string& what);
 
+// Waits until a message from `source` (-1: any) with `tag` can be received, and returns its
+// source. Polls every 50 us instead of spinning in MPI_Recv (OpenMPI's busy wait), so that a rank
+// waiting for the others leaves its core to them and to its own threads: ranks x threads share
+// the cores of a node.
+int waitForMessage(int source, int tag, const std::string& what);
+
 }  // namespace bcassim
