@@ -58,8 +58,8 @@ const char* kMpiEtkf =
     "assimilation:\n  filter: etkf\n  members: 7\n  reuse_factorization: false\n"
     "  state: {positions: true, velocities: true}\n";
 
-// `bcassim args` in dir under mpirun with `ranks` ranks; `environment` (NAME=VALUE) exported to
-// every rank.
+// `bcassim args` in dir under mpirun with `ranks` ranks (0: alone, without mpirun);
+// `environment` (NAME=VALUE) exported to every rank.
 test::CliResult runMpiBcassim(const std::filesystem::path& dir, int ranks, const std::string& args,
                               const std::string& environment = "") {
   // Root needs mpirun's consent; --bind-to none lets each rank's threads use every core.
@@ -68,9 +68,17 @@ test::CliResult runMpiBcassim(const std::filesystem::path& dir, int ranks, const
   std::string exported;
   if (!environment.empty())
     exported = fmt::format("-x {} ", environment.substr(0, environment.find('=')));
+  const std::string launcher =
+      ranks == 0 ? "" : fmt::format("'{}' {} {}-np {}", BCASSIM_MPIEXEC, options, exported, ranks);
+  // Under AddressSanitizer (make sanitize) OpenMPI's own allocations at MPI_Finalize are reported
+  // as leaks, from components already unloaded (no module name to suppress): MPI runs go without
+  // leak checking; the same code runs leak-checked in the threaded runs.
+  const char* asan = std::getenv("ASAN_OPTIONS");
+  const std::string sanitizer =
+      fmt::format("ASAN_OPTIONS='{}{}detect_leaks=0'", asan ? asan : "", asan && *asan ? ":" : "");
   const std::string cmd =
-      fmt::format("cd '{}' && {} '{}' {} {}-np {} '{}' {} > cli.out 2> cli.err", dir.string(),
-                  environment, BCASSIM_MPIEXEC, options, exported, ranks, BCASSIM_BINARY, args);
+      fmt::format("cd '{}' && {} {} {} '{}' {} > cli.out 2> cli.err", dir.string(), sanitizer,
+                  environment, launcher, BCASSIM_BINARY, args);
   const int status = std::system(cmd.c_str());
   test::CliResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -144,7 +152,7 @@ void expectRanksMatchThreads(const std::string& section) {
   ASSERT_EQ(runBcassim(dir, run + "--out t1 --threads 1").exitCode, 0);
   ASSERT_EQ(runBcassim(dir, run + "--out t2 --threads 2").exitCode, 0);
   // One rank without mpirun (a singleton job): the threaded run.
-  ASSERT_EQ(runBcassim(dir, run + "--out m1 --threads 1 --mpi").exitCode, 0);
+  ASSERT_EQ(runMpiBcassim(dir, 0, run + "--out m1 --threads 1 --mpi").exitCode, 0);
   const test::CliResult three = runMpiBcassim(dir, 3, run + "--out m3 --threads 1 --mpi");
   ASSERT_EQ(three.exitCode, 0) << three.err;
   EXPECT_EQ(three.err, "");
