@@ -17,7 +17,7 @@ namespace proto = mpi_protocol;
 namespace {
 
 // The answer kind and text of an exception, so that rank 0 rethrows the same kind of error.
-std::pair<std::int32_t, std::string> describe(std::exception_ptr error) {
+std::pair<std::int32_t, std::string> describe(const std::exception_ptr& error) {
   try {
     std::rethrow_exception(error);
   } catch (const OutputError& e) {
@@ -54,7 +54,7 @@ MpiForecastServer::MpiForecastServer(const MpiSession& session)
 
 void MpiForecastServer::serve(ForecastEnsemble& ensemble) { serveUntilStop(&ensemble); }
 
-void MpiForecastServer::fail(std::exception_ptr error) {
+void MpiForecastServer::fail(const std::exception_ptr& error) {
   failure_ = describe(error);
   serveUntilStop(nullptr);
 }

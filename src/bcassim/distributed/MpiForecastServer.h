@@ -24,7 +24,7 @@ class MpiForecastServer {
   void serve(ForecastEnsemble& ensemble);
   // The rank could not build its models (`error`, e.g. a scene it cannot read): answers that
   // error to every forecast until rank 0 says stop.
-  void fail(std::exception_ptr error);
+  void fail(const std::exception_ptr& error);
 
  private:
   void serveUntilStop(ForecastEnsemble* ensemble);
