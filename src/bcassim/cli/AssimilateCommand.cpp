@@ -116,10 +116,12 @@ class AssimilateCommand : public Command {
     addThreadsOption(app, threads_,
                      "the sigma points' forecasts (default: the scene's assimilation.threads)",
                      false);
-    app.add_flag("--mpi", mpi_,
-                 "Spread the sigma points over the ranks of an MPI job (mpirun -np N bcassim "
-                 "assimilate SCENE --mpi): rank 0 runs the filter and prints, every rank "
-                 "forecasts its share on its --threads; the same estimates as one process");
+    app.add_flag(
+        "--mpi", mpi_,
+        "Spread the sigma points over the ranks of an MPI job (mpirun -np N bcassim "
+        "assimilate SCENE --mpi): rank 0 runs the filter and prints, every rank "
+        "forecasts its share on its --threads; the threaded run's estimates (README, Over MPI "
+        "ranks)");
   }
 
   int run() override {
