@@ -9,6 +9,7 @@ PACKAGES=(
   libvtk9-dev libcgal-dev libyaml-cpp-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libopenmpi-dev
   python3 python3-matplotlib python3-numpy
+  openmpi-bin  # mpirun: the MPI executor (assimilate --mpi) and its 3-rank test
   zlib1g-dev liblz4-dev liblzma-dev  # the compressors of VTK XML files, read by io/VtkXmlReader
   clang-format clang-tidy  # make lint: the formatting and the bug-finding checks CI runs
   clang-14 libclang-rt-14-dev  # make fuzz: libFuzzer, AddressSanitizer and UBSan runtimes
