@@ -214,10 +214,14 @@ class AssimilateCommand : public Command {
           args_.scenePath);
     const int checkpoint =
         checkpointEvery_ > 0 ? (step - 1) / checkpointEvery_ * checkpointEvery_ : 0;
+    const std::string owing =
+        ranks.empty() ? std::string()
+                      : fmt::format(" while rank{} {} had not answered",
+                                    ranks.find(',') == std::string::npos ? "" : "s", ranks);
     return fmt::format(
-        "bcassim: error: {}: assimilation step {}: the MPI job was ended while rank{} {} had "
-        "not answered (a rank died, or mpirun was stopped); {}",
-        args_.scenePath, step, ranks.find(',') == std::string::npos ? "" : "s", ranks,
+        "bcassim: error: {}: assimilation step {}: the MPI job was ended{} (a rank died, or "
+        "mpirun was stopped); {}",
+        args_.scenePath, step, owing,
         checkpoint > 0
             ? fmt::format("the same command with --resume continues from the checkpoint of step {}",
                           checkpoint)

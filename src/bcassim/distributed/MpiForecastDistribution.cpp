@@ -83,14 +83,12 @@ void MpiForecastDistribution::beginStep(int step) {
   updateEndNotice();
 }
 
-// The line for a job ended now: the ranks that owe answers, or all of them between forecasts.
+// The line for a job ended now, with the ranks that owe answers (none between forecasts).
 void MpiForecastDistribution::updateEndNotice() {
   if (!describeEnd_) return;
   std::string ranks;
   for (int r = 1; r < size_; ++r)
     if (pending_[static_cast<size_t>(r)]) ranks += (ranks.empty() ? "" : ", ") + std::to_string(r);
-  if (ranks.empty())
-    for (int r = 1; r < size_; ++r) ranks += (ranks.empty() ? "" : ", ") + std::to_string(r);
   setJobEndNotice(describeEnd_(step_, ranks));
 }
 

@@ -23,8 +23,8 @@ struct MpiTransferStats {
 class MpiForecastDistribution final : public ForecastDistribution {
  public:
   // On rank 0 of `session`, whose other ranks run MpiForecastServer::serve. `describeEnd(step,
-  // ranks)` words the line printed if the job is ended while `ranks` (e.g. "2" or "1, 2") owe
-  // the forecasts of `step` (JobEndNotice.h).
+  // ranks)` words the line printed if the job is ended during `step` while `ranks` (e.g. "2" or
+  // "1, 2"; empty: none) owe forecasts (JobEndNotice.h).
   MpiForecastDistribution(
       const MpiSession& session,
       std::function<std::string(int step, const std::string& ranks)> describeEnd);
