@@ -25,7 +25,7 @@ Eigen::MatrixXd standardNormal(Eigen::Index rows, Eigen::Index cols, std::mt1993
 EtkfFilter::EtkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
                        Executor& executor, EtkfOptions options)
     : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone,
-                options.observation),
+                options.observation, options.distribution),
       options_(std::move(options)),
       rng_(options_.seed) {
   const StochasticState& s = ensemble_.layout();

@@ -3,6 +3,7 @@
 
 namespace bcassim {
 
+class ForecastDistribution;
 class ObservationOperator;
 
 struct FilterOptions {
@@ -13,6 +14,9 @@ struct FilterOptions {
   // step with data (ObservationOperator.h). Null: the observables are the predictions
   // (DirectObservation). Not owned; must outlive the filter.
   ObservationOperator* observation = nullptr;
+  // Shares each step's forecasts with other processes (ForecastDistribution.h); null: all here.
+  // Not owned; must outlive the filter.
+  ForecastDistribution* distribution = nullptr;
 };
 
 }  // namespace bcassim

@@ -10,12 +10,14 @@ namespace bcassim {
 
 ForecastEnsemble::ForecastEnsemble(StochasticState layout, std::vector<ForecastModel*> models,
                                    Executor& executor, bool firstAlone,
-                                   ObservationOperator* observation)
+                                   ObservationOperator* observation,
+                                   ForecastDistribution* distribution)
     : layout_(std::move(layout)),
       models_(std::move(models)),
       executor_(executor),
       firstAlone_(firstAlone),
-      observation_(observation) {
+      observation_(observation),
+      distribution_(distribution) {
   if (static_cast<int>(models_.size()) < executor_.workers())
     throw InputError(fmt::format("{} forecast models for {} executor workers: one per worker",
                                  models_.size(), executor_.workers()));
@@ -50,9 +52,12 @@ void ForecastEnsemble::forecastColumn(int t, int worker, const Eigen::MatrixXd& 
 
 void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
                                 Eigen::MatrixXd& observables) {
-  const int s = static_cast<int>(points.cols());
-  forecasts.resize(points.rows(), s);
-  observables.resize(observableSize_, s);
+  const int columns = static_cast<int>(points.cols());
+  forecasts.resize(points.rows(), columns);
+  observables.resize(observableSize_, columns);
+  // The other processes' columns leave first, so that they run while these do.
+  const int s = distribution_ ? distribution_->localColumns(columns) : columns;
+  if (s < columns) distribution_->send(points);
   auto task = [&](int t, int worker) { forecastColumn(t, worker, points, forecasts, observables); };
   if (firstAlone_ && s > 1) {
     // Alone and on worker 0, so that the others can reuse what it factorised (Alg. 4/5).
@@ -61,6 +66,7 @@ void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& 
   } else {
     executor_.run(s, task);
   }
+  if (s < columns) distribution_->receive(forecasts, observables);
 }
 
 Observation ForecastEnsemble::predict(const Observation& frame, const Eigen::VectorXd& weights,
@@ -93,6 +99,7 @@ void ForecastEnsemble::endStep(const Eigen::VectorXd& mean) {
   const Eigen::VectorXd state = mean.head(layout_.physicalSize());
   Eigen::VectorXd params;
   layout_.physicalParameters(mean, params);
+  if (distribution_) distribution_->endStep(mean);
   for (ForecastModel* model : models_) model->endStep(state, params);
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bcassim/assimilation/Executor.h"
+#include "bcassim/assimilation/ForecastDistribution.h"
 #include "bcassim/assimilation/ForecastModel.h"
 #include "bcassim/assimilation/ObservationOperator.h"
 #include "bcassim/assimilation/StochasticState.h"
@@ -15,10 +16,12 @@ namespace bcassim {
 class ForecastEnsemble {
  public:
   // models[w] is used by executor worker w; models.size() >= executor.workers(). The models and
-  // the executor must outlive this object; so must `observation` (null: DirectObservation).
-  // Throws InputError if sizes disagree with `layout`.
+  // the executor must outlive this object; so must `observation` (null: DirectObservation) and
+  // `distribution` (null: every column is forecast here). Throws InputError if sizes disagree
+  // with `layout`.
   ForecastEnsemble(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
-                   bool firstAlone, ObservationOperator* observation = nullptr);
+                   bool firstAlone, ObservationOperator* observation = nullptr,
+                   ForecastDistribution* distribution = nullptr);
 
   const StochasticState& layout() const { return layout_; }
   Eigen::Index observableSize() const { return observableSize_; }
@@ -27,7 +30,8 @@ class ForecastEnsemble {
   // model, parameter rows carried over (parameters are constant in time, eq. 3.1 with T = Id on
   // them; a random walk enters as the filters' process noise). Writes forecasts (same shape) and
   // the forecasts' observables (observableSize() x s). Throws NumericalError if a model returns
-  // non-finite values.
+  // non-finite values. With a distribution, the columns past its localColumns() are forecast by
+  // the other processes, the same way.
   void forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
                 Eigen::MatrixXd& observables);
 
@@ -39,7 +43,8 @@ class ForecastEnsemble {
   Observation predict(const Observation& frame, const Eigen::VectorXd& weights,
                       const Eigen::MatrixXd& observables, Eigen::MatrixXd& predicted);
 
-  // Tells every model, in worker order, that the step ended at the analysed mean (unconstrained).
+  // Tells every model, in worker order, that the step ended at the analysed mean (unconstrained);
+  // the distribution's first, so that the other processes move on while these do.
   void endStep(const Eigen::VectorXd& mean);
 
  private:
@@ -51,7 +56,8 @@ class ForecastEnsemble {
   Executor& executor_;
   bool firstAlone_;
   DirectObservation direct_;
-  ObservationOperator* observation_;  // null: direct_
+  ObservationOperator* observation_;    // null: direct_
+  ForecastDistribution* distribution_;  // null: every column here
   Eigen::Index observableSize_ = 0;
 };
 

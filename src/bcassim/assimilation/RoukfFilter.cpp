@@ -23,7 +23,7 @@ Eigen::MatrixXd sqrtFactor(const Eigen::MatrixXd& L, const Eigen::MatrixXd& U, R
 RoukfFilter::RoukfFilter(StochasticState layout, std::vector<ForecastModel*> models,
                          Executor& executor, const RoukfOptions& options)
     : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone,
-                options.observation) {
+                options.observation, options.distribution) {
   const StochasticState& s = ensemble_.layout();
   const Eigen::VectorXd& q = options.processVariance;
   if (q.size() != 0) {

@@ -16,7 +16,7 @@ namespace bcassim {
 UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models, Executor& executor,
                      UkfOptions options)
     : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone,
-                options.observation),
+                options.observation, options.distribution),
       options_(std::move(options)) {
   const StochasticState& s = ensemble_.layout();
   const Eigen::Index n = s.size();

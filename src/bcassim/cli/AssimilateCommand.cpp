@@ -1,16 +1,22 @@
 // `bcassim assimilate SCENE` (estimate a scene's parameters from observed tracks) and `bcassim
 // validate SCENE --estimates FILE` (forward run with the estimates against the truth): the scene
-// line, a progress bar, the summary table and validation errors, and the PNG plots.
+// line, a progress bar, the summary table and validation errors, and the PNG plots. With --mpi
+// (under mpirun) rank 0 runs the filter and prints, the other ranks forecast their share.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 
 #include "bcassim/Error.h"
 #include "bcassim/cli/AssimilationProgressBar.h"
 #include "bcassim/cli/Commands.h"
 #include "bcassim/cli/SharedOptions.h"
+#include "bcassim/distributed/JobEndNotice.h"
+#include "bcassim/distributed/MpiForecastDistribution.h"
+#include "bcassim/distributed/MpiForecastServer.h"
+#include "bcassim/distributed/MpiSession.h"
 #include "bcassim/io/OutputDirectoryLock.h"
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/scene/SceneLoader.h"
@@ -110,34 +116,122 @@ class AssimilateCommand : public Command {
     addThreadsOption(app, threads_,
                      "the sigma points' forecasts (default: the scene's assimilation.threads)",
                      false);
+    app.add_flag(
+        "--mpi", mpi_,
+        "Spread the sigma points over the ranks of an MPI job (mpirun -np N bcassim "
+        "assimilate SCENE --mpi): rank 0 runs the filter and prints, every rank "
+        "forecasts its share on its --threads; the threaded run's estimates (README, Over MPI "
+        "ranks)");
   }
 
   int run() override {
-    const io::OutputDirectoryLock lock(args_.outDir);
+    if (!mpi_) return runFilter(nullptr, 1);
+    const MpiSession session;
+    if (session.rank() > 0) return serveForecasts(session);
+    // Once a rank dies mpirun ends the others: rank 0 then says where the run stood.
+    installJobEndNotice(kJobEndedExitCode);
+    // Declared before the scene is read: whatever fails on rank 0, its destructor releases the
+    // other ranks.
+    MpiForecastDistribution distribution(
+        session, [this](int step, const std::string& ranks) { return jobEndLine(step, ranks); });
+    return runFilter(&distribution, session.size());
+  }
+
+ private:
+  // Exit code of rank 0 when mpirun ends the job under it (a rank died).
+  static constexpr int kJobEndedExitCode = 3;
+
+  // The scene with --threads applied; `threads` says what the forecasts run on.
+  Scene loadWithThreads(std::string* threads = nullptr) {
     Scene scene = loadScene(args_.scenePath);
     requireAssimilation(args_.scenePath, scene);
     AssimilationSettings& s = *scene.assimilation;
-    std::string threads = fmt::format("{} thread{}", s.threads, s.threads == 1 ? "" : "s");
+    if (threads) *threads = fmt::format("{} thread{}", s.threads, s.threads == 1 ? "" : "s");
     if (threads_ > 0) {
-      threads = fmt::format("{} thread{} (--threads; the scene says {})", threads_,
-                            threads_ == 1 ? "" : "s", s.threads);
+      if (threads)
+        *threads = fmt::format("{} thread{} (--threads; the scene says {})", threads_,
+                               threads_ == 1 ? "" : "s", s.threads);
       s.threads = threads_;
     }
+    checkpointEvery_ = scene.output.every;
+    return scene;
+  }
+
+  // The run with the filter (alone, or rank 0 of `ranks` with `distribution`), printing.
+  int runFilter(MpiForecastDistribution* distribution, int ranks) {
+    const io::OutputDirectoryLock lock(args_.outDir);
+    std::string threads;
+    Scene scene = loadWithThreads(&threads);
+    if (distribution)
+      threads = fmt::format("{} MPI rank{} x {}", ranks, ranks == 1 ? "" : "s", threads);
     printSceneLine(args_.scenePath, scene, threads);
     AssimilationProgressBar bar(stderr);
     AssimilationCallback progress;
     if (!args_.quiet) progress = [&bar](const AssimilationProgress& p) { bar.update(p); };
-    const AssimilationResult result = runAssimilation(scene, args_.outDir, progress, resume_);
+    const AssimilationResult result =
+        runAssimilation(scene, args_.outDir, progress, resume_, nullptr, distribution);
     bar.finish();
     printSummary(result, true);
+    if (distribution && distribution->stats().steps > 0) printTransfers(distribution->stats());
     if (!args_.noPlots) plot(args_.outDir);
     return 0;
   }
 
- private:
+  // What went between the ranks per step, for the cost model (docs/benchmarks.md §8).
+  static void printTransfers(const MpiTransferStats& t) {
+    const double n = t.steps;
+    fmt::print(
+        "MPI: per step {:.4g} MB to the other ranks, {:.4g} MB back; rank 0 {:.3g} ms sending "
+        "the sigma points, {:.3g} ms receiving the forecasts (waiting included), {:.3g} ms "
+        "sending the mean\n",
+        1e-6 * t.sentBytes / n, 1e-6 * t.receivedBytes / n, 1e3 * t.sendSeconds / n,
+        1e3 * t.receiveSeconds / n, 1e3 * t.endStepSeconds / n);
+  }
+
+  // A worker rank: the same scene and models, silent; its errors go to rank 0, which prints
+  // them.
+  int serveForecasts(const MpiSession& session) {
+    MpiForecastServer server(session);
+    std::exception_ptr failed;
+    try {
+      const Scene scene = loadWithThreads();
+      serveAssimilationForecasts(scene, args_.outDir, resume_,
+                                 [&server](ForecastEnsemble& e) { server.serve(e); });
+      return 0;
+    } catch (...) {
+      failed = std::current_exception();
+    }
+    server.fail(failed);
+    return 0;
+  }
+
+  // The line rank 0 prints when the job is ended during `step` while `ranks` owed forecasts.
+  std::string jobEndLine(int step, const std::string& ranks) const {
+    if (step == 0)
+      return fmt::format(
+          "bcassim: error: {}: the MPI job was ended before the first assimilation step (a rank "
+          "died, or mpirun was stopped)",
+          args_.scenePath);
+    const int checkpoint =
+        checkpointEvery_ > 0 ? (step - 1) / checkpointEvery_ * checkpointEvery_ : 0;
+    const std::string owing =
+        ranks.empty() ? std::string()
+                      : fmt::format(" while rank{} {} had not answered",
+                                    ranks.find(',') == std::string::npos ? "" : "s", ranks);
+    return fmt::format(
+        "bcassim: error: {}: assimilation step {}: the MPI job was ended{} (a rank died, or "
+        "mpirun was stopped); {}",
+        args_.scenePath, step, owing,
+        checkpoint > 0
+            ? fmt::format("the same command with --resume continues from the checkpoint of step {}",
+                          checkpoint)
+            : std::string("no checkpoint was written yet: run it again without --resume"));
+  }
+
   AssimilationArguments args_;
-  bool resume_ = false;
-  int threads_ = 0;  // 0: not given (--threads itself accepts only >= 1)
+  bool resume_ = false, mpi_ = false;
+  int threads_ = 0;          // 0: not given (--threads itself accepts only >= 1)
+  int checkpointEvery_ = 0;  // the scene's output.every, once read
 };
 
 class ValidateCommand : public Command {

@@ -248,8 +248,11 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
   }
   // Without the full mechanical state in the filter, the mean trajectory is continued by one more
   // step with the analysed parameters, then corrected by whatever part the filter does carry.
+  // Worker 0 comes first (endStep runs in worker order) and may rebuild the tangent below: the
+  // others step with the one it stepped with.
+  if (options_.meanTangent && worker_ == 0) shared_->endStepTangent = shared_->tangent;
   if (options_.meanTangent)
-    integrator_.stepWithTangent(model_, reference_, *shared_->tangent);
+    integrator_.stepWithTangent(model_, reference_, *shared_->endStepTangent);
   else
     integrator_.step(model_, reference_);
   stats_.stepRetries += integrator_.lastTimings().retries;

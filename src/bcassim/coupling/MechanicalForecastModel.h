@@ -35,6 +35,10 @@ struct SharedFactorization {
   // With ForecastModelOptions::meanTangent: the tangent every worker steps with, rebuilt by worker
   // 0 at the analysed mean in endStep().
   std::shared_ptr<const FrozenTangent> tangent;
+  // The tangent every worker continues its reference with in endStep() (without the full state):
+  // the one of the step that ends, kept by worker 0 before it replaces `tangent`, so that every
+  // worker's reference is the same whatever worker 0 rebuilds first.
+  std::shared_ptr<const FrozenTangent> endStepTangent;
   int stepsSinceTangent = 0;
   // Static frames: worker 0's equilibrium at the analysed mean (endStep), which the other workers
   // copy at theirs (endStep runs in worker order), and the external forces it balances.

@@ -18,6 +18,7 @@
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
 #include "bcassim/assimilation/EtkfFilter.h"
+#include "bcassim/assimilation/ForecastEnsemble.h"
 #include "bcassim/assimilation/RoukfFilter.h"
 #include "bcassim/assimilation/ThreadPoolExecutor.h"
 #include "bcassim/assimilation/UkfFilter.h"
@@ -193,13 +194,15 @@ Eigen::VectorXd processVariance(const AssimilationSettings& s, const StochasticS
 
 std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const StochasticState& layout,
                                    const std::vector<ForecastModel*>& models, Executor& executor,
-                                   ObservationOperator* observation) {
+                                   ObservationOperator* observation,
+                                   ForecastDistribution* distribution) {
   const Eigen::VectorXd process = processVariance(s, layout);
   switch (s.filter) {
     case FilterKind::Ukf: {
       UkfOptions o;
       o.firstSigmaPointAlone = false;
       o.observation = observation;
+      o.distribution = distribution;
       o.sigmaPoints = s.sigmaPoints;
       o.spread = s.sigmaSpread;
       o.processVariance = process;
@@ -209,6 +212,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
       RoukfOptions o;
       o.firstSigmaPointAlone = false;
       o.observation = observation;
+      o.distribution = distribution;
       o.sigmaPoints = s.sigmaPoints;
       o.processVariance = process;
       return std::make_unique<RoukfFilter>(layout, models, executor, o);
@@ -217,6 +221,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
       EtkfOptions o;
       o.firstSigmaPointAlone = false;
       o.observation = observation;
+      o.distribution = distribution;
       o.members = s.members;
       o.seed = s.seed;
       o.processVariance = process;
@@ -233,6 +238,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
 // and the filter over them.
 struct AssimilationSetup {
   std::vector<std::unique_ptr<MechanicalForecastModel>> models;
+  std::vector<ForecastModel*> workers;  // models, as the filter takes them
   std::unique_ptr<StochasticState> layout;
   std::unique_ptr<Executor> executor;
   std::unique_ptr<PointCloudObservation> cloud;  // with a point cloud (markers: direct)
@@ -281,7 +287,8 @@ void setUpPointCloud(const Scene& scene, AssimilationSetup& setup) {
   }
 }
 
-AssimilationSetup setUp(const Scene& scene) {
+// `distribution`: the other processes of an MPI run forecast part of each step (null: none).
+AssimilationSetup setUp(const Scene& scene, ForecastDistribution* distribution) {
   const AssimilationSettings& s = *scene.assimilation;
   std::vector<ModelParameterTarget> targets;
   std::vector<Parameter> parameters;
@@ -295,11 +302,10 @@ AssimilationSetup setUp(const Scene& scene) {
   AssimilationSetup setup;
   setup.notices = s.notices;
   if (s.observations.pointCloud) setUpPointCloud(scene, setup);
-  std::vector<ForecastModel*> workers;
   for (int w = 0; w < s.threads; ++w) {
     setup.models.push_back(std::make_unique<MechanicalForecastModel>(
         scene.model, scene.implicitEuler, scene.markers.points, targets, rest, options, w, shared));
-    workers.push_back(setup.models.back().get());
+    setup.workers.push_back(setup.models.back().get());
   }
   // The physical state starts known (zero spread): all the prior's uncertainty is in the
   // parameters.
@@ -310,7 +316,8 @@ AssimilationSetup setUp(const Scene& scene) {
     setup.executor = std::make_unique<ThreadPoolExecutor>(s.threads);
   else
     setup.executor = std::make_unique<SerialExecutor>();
-  setup.filter = makeFilter(s, *setup.layout, workers, *setup.executor, setup.cloud.get());
+  setup.filter =
+      makeFilter(s, *setup.layout, setup.workers, *setup.executor, setup.cloud.get(), distribution);
   return setup;
 }
 
@@ -425,20 +432,26 @@ FilterLoopState startFromPrior(const Scene& scene, const AssimilationSetup& setu
   return loop;
 }
 
+// The filter and the models as they were after step c.step (read from checkpointPath).
+void restoreFilterAndModels(AssimilationSetup& setup, const AssimilationCheckpoint& c,
+                            const std::string& checkpointPath) {
+  try {
+    setup.filter->restoreState(c.filter);
+  } catch (const std::invalid_argument&) {
+    throw InputError(checkpointPath + ": the filter's state does not fit this scene");
+  }
+  Eigen::VectorXd params;
+  setup.layout->physicalParameters(setup.filter->mean(), params);
+  for (const auto& m : setup.models) m->restoreReference(c.reference, params);
+}
+
 // A resumed run starts from its checkpoint: filter, models, initial-parameter run, summaries,
 // noise generator and the result so far as they were after step c.step.
 FilterLoopState resumeFromCheckpoint(const Scene& scene, AssimilationSetup& setup,
                                      AssimilationFiles& files, const AssimilationCheckpoint& c) {
   FilterLoopState loop = newLoopState(scene, files.dir);
   loop.result.notices = setup.notices;
-  try {
-    setup.filter->restoreState(c.filter);
-  } catch (const std::invalid_argument&) {
-    throw InputError(files.checkpointPath + ": the filter's state does not fit this scene");
-  }
-  Eigen::VectorXd params;
-  setup.layout->physicalParameters(setup.filter->mean(), params);
-  for (const auto& m : setup.models) m->restoreReference(c.reference, params);
+  restoreFilterAndModels(setup, c, files.checkpointPath);
   if (loop.initialRun) loop.initialRun->restore(c.initialRun, c.initialRunSteps);
   if (files.validation) files.validation->restore(c.errorSummaries);
   std::istringstream(c.rng) >> loop.rng;
@@ -616,7 +629,8 @@ AssimilationResult finishAssimilation(AssimilationFiles& files, FilterLoopState&
 
 AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir,
                                    const AssimilationCallback& progress, bool resume,
-                                   const AssimilationStream* stream) {
+                                   const AssimilationStream* stream,
+                                   ForecastDistribution* distribution) {
   const Clock::time_point started = Clock::now();
   const AssimilationSettings& s = settingsOf(scene);
   if (!stream && s.observations.streamed)
@@ -631,7 +645,7 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
   createOutputDirectory(dir);
 
   // 1. Set-up: forecast models, state layout, executor, filter.
-  AssimilationSetup setup = setUp(scene);
+  AssimilationSetup setup = setUp(scene, distribution);
 
   // 2. Outputs opened and the initial state: the prior's step 0, or the checkpoint's step.
   // parameters.csv holds the prior until the run ends (then the final estimate).
@@ -656,6 +670,7 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
                                       : streamed.kind == StreamedFrame::Kind::Observed
                                           ? &streamed.markers
                                           : nullptr;
+    if (distribution) distribution->beginStep(step);
     const FilterStepReport report = filterStep(step, scene, markers, stream, setup, files, loop);
     loop.result.steps = step;
     if (progress)
@@ -665,6 +680,21 @@ AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir
 
   // 4. Outputs: parameters.csv with the final estimate, errors_summary.csv, timings.
   return finishAssimilation(files, loop, started);
+}
+
+void serveAssimilationForecasts(const Scene& scene, const std::string& outDir, bool resume,
+                                const std::function<void(ForecastEnsemble&)>& serve) {
+  settingsOf(scene);
+  // Phase 1 and the restored checkpoint as runAssimilation has them, so that these models are
+  // its models' copies; the filter is built only to read the checkpoint's mean.
+  AssimilationSetup setup = setUp(scene, nullptr);
+  if (resume) {
+    const std::string path = (fs::path(outDir) / "checkpoint.bin").string();
+    restoreFilterAndModels(
+        setup, readAssimilationCheckpoint(path, checkpointKey(scene, *setup.layout)), path);
+  }
+  ForecastEnsemble ensemble(*setup.layout, setup.workers, *setup.executor, false);
+  serve(ensemble);
 }
 
 namespace {

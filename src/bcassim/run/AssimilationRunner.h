@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "bcassim/assimilation/ForecastDistribution.h"
+#include "bcassim/assimilation/ForecastEnsemble.h"
 #include "bcassim/run/AssimilationStream.h"
 #include "bcassim/scene/Scene.h"
 
@@ -74,9 +76,20 @@ struct AssimilationResult {
 // With `stream` (bcassim serve) the markers of each step come from stream->frame instead of the
 // tracks file (which is not read), the run ends early when it says so, and every step's hidden
 // points and mesh go to stream->publish; the files are the same. Not with a point cloud.
+// With `distribution` (an MPI run's rank 0, distributed/) the other processes forecast part of
+// every step, each running serveAssimilationForecasts; the files are the same, except that
+// timing.csv's forecast costs count this process's forecasts only.
 AssimilationResult runAssimilation(const Scene& scene, const std::string& outDir,
                                    const AssimilationCallback& progress = {}, bool resume = false,
-                                   const AssimilationStream* stream = nullptr);
+                                   const AssimilationStream* stream = nullptr,
+                                   ForecastDistribution* distribution = nullptr);
+
+// The forecasting half of runAssimilation, for a process that runs no filter (an MPI worker
+// rank): the same models and layout as runAssimilation builds (resumed from outDir's checkpoint
+// with `resume`) handed to `serve` as a ForecastEnsemble, which answers the filter's process
+// until it is done. Writes nothing. Throws InputError as runAssimilation does.
+void serveAssimilationForecasts(const Scene& scene, const std::string& outDir, bool resume,
+                                const std::function<void(ForecastEnsemble&)>& serve);
 
 // Forward run over the whole horizon with the last values of estimates.csv (estimatesPath),
 // compared with the truth validation tracks and with the initial parameters; writes

@@ -1,0 +1,135 @@
+#!/usr/bin/env bash
+# The MPI executor's ranks x threads scaling and the measurements of its cost model
+# (docs/benchmarks.md §8): the full-state UKF of examples/cyl-E-same (2,792 sigma points) and the
+# liver ROUKF of `make demo`, each for a few steps at 1x1, 1x2, 2x1 and 2x2 (ranks x threads;
+# more than 2 cores' worth is oversubscribed), then bench_mpi_transfer's latency and bandwidth
+# and the model's predictions for 8, 64 and 512 ranks.
+# Usage: bench/mpi_scaling.sh [BUILD=build] [OUT=out/bench/mpi]
+#   UKF_STEPS (default 6) and LIVER_STEPS (default 60): steps run (trimmed copies of the scenes);
+#   LIVER (default LiTS-3 from $BCASSIM_DATA, else the built-in phantom); SUMMARY_ONLY=1 reprints
+#   the tables from the runs in OUT.
+set -euo pipefail
+HERE=$(cd "$(dirname "$0")/.." && pwd)
+BUILD=$(cd "${1:-build}" && pwd)
+OUT=${2:-out/bench/mpi}
+UKF_STEPS=${UKF_STEPS:-6}
+LIVER_STEPS=${LIVER_STEPS:-60}
+export BCASSIM_DATA=${BCASSIM_DATA:-$HERE/../shared/data}
+LIVER=${LIVER:-LiTS-3}
+[ -f "$BCASSIM_DATA/livers/$LIVER.obj" ] || LIVER=phantom
+B=$BUILD/bcassim
+# No --oversubscribe (2 ranks fit 2 cores): with it OpenMPI yields the core while waiting, and
+# on a busy machine every message then waits for the scheduler (4 ms measured).
+MPIRUN=(mpirun --bind-to none)
+[ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
+mkdir -p "$OUT" && OUT=$(cd "$OUT" && pwd)
+
+# run NAME SCENE RANKS THREADS: one assimilation into $OUT/runs/NAME-RxT.
+run() {
+  local dir=$OUT/runs/$1-$3x$4
+  rm -rf "$dir" && mkdir -p "$OUT/runs"
+  if [ "$3" = 1 ]; then
+    "$B" assimilate "$2" --out "$dir" --threads "$4" -q --no-plots > "$dir.txt"
+  else
+    "${MPIRUN[@]}" -np "$3" "$B" assimilate "$2" --out "$dir" --threads "$4" --mpi -q --no-plots \
+      > "$dir.txt"
+  fi
+}
+
+if [ -z "${SUMMARY_ONLY:-}" ]; then
+# The full-state UKF: copies of the example scenes with the steps trimmed.
+mkdir -p "$OUT/examples"
+cp -r "$HERE/examples/cyl-E-same" "$HERE/examples/cyl-common" "$OUT/examples/"
+sed -i -E "s/^time: \{dt: 0.01, steps: [0-9]+\}/time: {dt: 0.01, steps: $UKF_STEPS}/" \
+  "$OUT/examples/cyl-E-same/truth.yaml" "$OUT/examples/cyl-E-same/estimate-ukf.yaml"
+"$B" simulate "$OUT/examples/cyl-E-same/truth.yaml" --out "$OUT/out/cyl-E-same/truth" -q > /dev/null
+
+# The liver ROUKF of `make demo` (scripts/demo.sh: 5,000-node truth), trimmed.
+"$B" liver prepare "$LIVER" --out "$OUT/liver" --fine-nodes 5000 --steps "$LIVER_STEPS" \
+  --observed-steps "$LIVER_STEPS" > /dev/null
+"$B" simulate "$OUT/liver/truth.yaml" --out "$OUT/liver/truth" -q > /dev/null
+
+for config in "1 1" "1 2" "2 1" "2 2"; do
+  # shellcheck disable=SC2086
+  run ukf "$OUT/examples/cyl-E-same/estimate-ukf.yaml" $config
+  # shellcheck disable=SC2086
+  run liver "$OUT/liver/estimate.yaml" $config
+done
+"${MPIRUN[@]}" -np 2 "$BUILD/bench/bench_mpi_transfer" > "$OUT/transfer.txt"
+fi
+
+python3 - "$OUT" <<'PY'
+import csv, math, re, statistics, sys
+out = sys.argv[1]
+
+def steps(name, config, pick=statistics.median):
+    rows = list(csv.DictReader(open(f"{out}/runs/{name}-{config}/timing.csv")))[1:]  # step 1: set-up
+    med = lambda k: pick(float(r[k]) for r in rows)
+    return med("total_ms"), med("forecast_ms"), med("correction_ms")
+
+def final(name, config):
+    rows = list(csv.DictReader(open(f"{out}/runs/{name}-{config}/estimates.csv")))
+    last = rows[-1]["step"]
+    return [float(r["mean"]) for r in rows if r["step"] == last]
+
+def mpi_line(name, config):
+    text = open(f"{out}/runs/{name}-{config}.txt").read()
+    m = re.search(r"^MPI: .*$", text, re.M)
+    return m.group(0) if m else ""
+
+transfer = open(f"{out}/transfer.txt").read()
+print(transfer)
+latency = float(re.search(r"latency \(8 B\): ([0-9.e+-]+) us", transfer).group(1)) * 1e-6
+bandwidth = float(re.search(r"bandwidth \(\d+ B\): ([0-9.e+-]+) GB/s", transfer).group(1)) * 1e9
+
+configs = ["1x1", "1x2", "2x1", "2x2"]
+for name in ["ukf", "liver"]:
+    base_total = steps(name, "1x1")[0]
+    base_final = final(name, "1x1")
+    base_best = steps(name, "1x1", min)[0]
+    print(f"\n{name}: ranks x threads | step median ms | forecast | correction | speed-up | "
+          "fastest step ms | its speed-up | final estimates, max relative difference to 1x1 | MPI")
+    for c in configs:
+        total, forecast, correction = steps(name, c)
+        best = steps(name, c, min)[0]
+        diff = max(abs(a - b) / max(abs(a), abs(b)) for a, b in zip(final(name, c), base_final))
+        print(f"| {c} | {total:.1f} | {forecast:.1f} | {correction:.1f} | "
+              f"{base_total / total:.2f} | {best:.1f} | {base_best / best:.2f} | {diff:.1e} | "
+              f"{mpi_line(name, c)}")
+
+# The cost model of one step on R ranks of one thread each:
+#   T(R) = A + ceil(S/R) t + C(R),  C(R) = 3 (min(R,S)-1) L + [8 n + 8 (n + m)] (S - ceil(S/R)) / W
+#          + (R-1) (L + 8 n / W)
+# A: rank 0's filter algebra (step minus forecasts), t: one sigma point's forecast, S sigma
+# points of n entries with m observables; L, W: latency and bandwidth of rank 0's link, every
+# transfer serialised through it (blocks out, forecasts back, the mean to every rank).
+def model(name, S, n, m):
+    total, forecast, _ = steps(name, "1x1")
+    t = forecast / 1e3 / S
+    A = (total - forecast) / 1e3
+    print(f"\n{name} model: S {S}, n {n}, m {m}, t {1e3 * t:.3f} ms per sigma point, "
+          f"A {1e3 * A:.1f} ms rank 0's algebra")
+    for label, L, W in [("this machine (shared memory)", latency, bandwidth),
+                        ("cluster (L 2 us, W 12 GB/s: 100 Gb/s InfiniBand)", 2e-6, 12e9),
+                        ("cluster (L 20 us, W 1.25 GB/s: 10 Gb/s Ethernet)", 20e-6, 1.25e9)]:
+        cells = []
+        for R in [1, 2, 8, 64, 512]:
+            per = math.ceil(S / R)
+            busy = min(R, S)  # ranks with columns; the others only get the mean
+            C = 0.0 if R == 1 else (3 * (busy - 1) * L + (8 * n + 8 * (n + m)) * (S - per) / W
+                                    + (R - 1) * (L + 8 * n / W))
+            T = A + per * t + C
+            F = per * t + C
+            e = (A + S * t) / (R * T)
+            ef = S * t / (R * F)
+            cells.append(f"R={R}: step {1e3 * T:.0f} ms (transfers {1e3 * C:.1f}), "
+                         f"efficiency {e:.2f}, forecasts' {ef:.2f}")
+        print(f"  {label}:\n    " + "\n    ".join(cells))
+
+model("ukf", 2792, 2791, 45)
+# The liver: positions and velocities of every node and P spring groups, P + 1 simplex points.
+scene_line = open(f"{out}/runs/liver-1x1.txt").read()
+nodes, markers, P = map(int, re.search(
+    r": (\d+) nodes, (\d+) markers, \d+ validation points, (\d+) parameters", scene_line).groups())
+model("liver", P + 1, 6 * nodes + P, 3 * markers)
+PY
