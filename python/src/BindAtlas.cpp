@@ -126,22 +126,27 @@ void bindAtlas(py::module_& m) {
   py::class_<AtlasTransfer>(m, "AtlasTransfer", "The atlas carried onto a patient (m)")
       .def_readonly("rigid", &AtlasTransfer::rigid)
       .def_readonly("rigid_rms", &AtlasTransfer::rigidRms)
+      .def_property_readonly("rigid_rotation_degrees",
+                             [](const AtlasTransfer& t) { return t.rigidReport.rotationDegrees; })
+      .def_property_readonly("implausible_pose_refused",
+                             [](const AtlasTransfer& t) { return t.rigidReport.rejected; })
       .def_readonly("registration", &AtlasTransfer::registration)
       .def_readonly("deformed_template", &AtlasTransfer::deformedTemplate)
       .def_readonly("curve", &AtlasTransfer::curve);
   m.def(
       "transfer_atlas",
       [](const LigamentAtlas& atlas, const TriMesh& patient, double sigmaV, double sigmaW,
-         int maxIterations, bool rigidAlign, bool project) {
+         int maxIterations, bool rigidAlign, bool project, double maxRotation) {
         const RegistrationOptions o =
             registrationOptions(sigmaV, sigmaW, "varifold", maxIterations);
         py::gil_scoped_release release;
-        return transferAtlas(atlas, patient, o, rigidAlign, project);
+        return transferAtlas(atlas, patient, o, rigidAlign, project, maxRotation);
       },
       "atlas"_a, "patient"_a, "sigma_v"_a = 0.02, "sigma_w"_a = 0.01, "max_iterations"_a = 200,
-      "rigid_align"_a = true, "project_onto_patient"_a = false,
+      "rigid_align"_a = true, "project_onto_patient"_a = false, "max_rotation_degrees"_a = 180.0,
       "Rigid alignment then registration of the atlas template onto the patient surface (m); "
-      "the mean curve and its band on the patient");
+      "the mean curve and its band on the patient. max_rotation_degrees: 90 refuses poses "
+      "turning the template further (CT livers in their scanner's axes), 180 any orientation");
 }
 
 }  // namespace bcassim::python

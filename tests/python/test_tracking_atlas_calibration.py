@@ -87,7 +87,9 @@ def test_a_small_atlas_is_built_and_transferred(tmp_path):
     again = bcassim.atlas.read_ligament_atlas(str(tmp_path / "atlas"))
     np.testing.assert_allclose(again.curve.mean, curve.mean, atol=1e-9)
     patient = TriMesh(V * [1.05, 1.0, 0.97], sphere.F)
-    transfer = bcassim.atlas.transfer_atlas(again, patient, sigma_v=0.03, max_iterations=10)
+    transfer = bcassim.atlas.transfer_atlas(again, patient, sigma_v=0.03, max_iterations=10,
+                                            max_rotation_degrees=90)
+    assert transfer.rigid_rotation_degrees < 10 and not transfer.implausible_pose_refused
     # The mean curve lands on (near) the patient's surface, within the patient's extent.
     r = np.linalg.norm(transfer.curve.mean / [0.0525, 0.05, 0.0485], axis=1)
     assert np.all(np.abs(r - 1) < 0.1)
