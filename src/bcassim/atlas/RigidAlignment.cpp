@@ -108,10 +108,10 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
   if (restricted) {
     // The refused start refined too: one ahead after the probe iterations may end behind
     // (LiTS-9 onto a three-liver template: 165.6 deg led the probes, then ended at RMS 11.2 mm
-    // against 9.3 mm for 54.7 deg). Only a fit still better is reported as refused.
+    // against 9.3 mm for 54.7 deg). Only a fit still clearly better is reported as refused.
     double refusedRms = 0.0;
     const RigidTransform refused = icp(source, locator, best, options, &refusedRms);
-    if (refusedRms < r.rms) {
+    if (refusedRms < 0.99 * r.rms) {  // by 1 %: a symmetric shape fits its turned copies alike
       r.rejected = true;
       r.rejectedRms = refusedRms;
       r.rejectedRotationDegrees = rotationAngleDegrees(refused.rotation);
