@@ -33,7 +33,7 @@ inline constexpr double kScannerFrameMaxRotationDegrees = 90.0;
 struct MultiStartReport {
   double rms = 0.0;              // m, RMS closest-point distance of the returned transform
   double rotationDegrees = 0.0;  // angle of the returned rotation
-  bool rejected = false;         // a start turned more than allowed fitted better, refined (RMS)
+  bool rejected = false;         // a start turned more than allowed fitted >= 1 % better, refined
   double rejectedRms = 0.0, rejectedRotationDegrees = 0.0;
 };
 
