@@ -85,9 +85,10 @@ struct Residuals {
 // Least squares over the parameters the stress is linear in (all of them but Ogden's alpha).
 Eigen::VectorXd linearStart(const UniaxialCurve& c, UniaxialLaw law, double alpha) {
   const Eigen::Index n = c.stretch.size();
-  Eigen::VectorXd p = law == UniaxialLaw::MooneyRivlin ? Eigen::VectorXd::Ones(2)
-                      : law == UniaxialLaw::Ogden      ? Eigen::Vector2d(1.0, alpha)
-                                                       : Eigen::VectorXd::Ones(1);
+  // One entry per parameter (a ternary would convert every branch to the fixed-size Vector2d).
+  Eigen::VectorXd p =
+      Eigen::VectorXd::Ones(static_cast<Eigen::Index>(uniaxialParameterNames(law).size()));
+  if (law == UniaxialLaw::Ogden) p(1) = alpha;
   const int linear = law == UniaxialLaw::MooneyRivlin ? 2 : 1;
   Eigen::MatrixXd G(n, linear);
   for (Eigen::Index i = 0; i < n; ++i)
