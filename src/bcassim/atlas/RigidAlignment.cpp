@@ -104,7 +104,7 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
   // No start stays within the limit: the best fit, unflagged.
   const bool restricted = std::isfinite(plausibleRms) && plausibleRms > bestRms;
   MultiStartReport r;
-  const RigidTransform out = icp(source, locator, restricted ? plausible : best, options, &r.rms);
+  RigidTransform out = icp(source, locator, restricted ? plausible : best, options, &r.rms);
   if (restricted) {
     // The refused start refined too: one ahead after the probe iterations may end behind
     // (LiTS-9 onto a three-liver template: 165.6 deg led the probes, then ended at RMS 11.2 mm
