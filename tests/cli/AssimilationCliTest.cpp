@@ -8,6 +8,7 @@
 #include <string>
 
 #include "bcassim/io/CsvTracks.h"
+#include "support/BentBeamScene.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -210,16 +211,7 @@ TEST(AssimilationCli, ValidationPointsNeedOneSource) {
 
 // A beam bent by a tip load: the truth with E = 5,000 Pa, the estimation starting from 4,000 Pa.
 std::string bentBeam(double youngModulus) {
-  return fmt::format(
-      "mesh: {{generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}}\n"
-      "material: {{model: stvk, young_modulus: {}, poisson_ratio: 0.3}}\n"
-      "fixed:\n  - region: {{box: {{min: [-1, -1, -1], max: [0.0001, 1, 1]}}}}\n"
-      "loads:\n  - region: {{box: {{min: [0.0999, -1, -1], max: [1, 1, 1]}}}}\n"
-      "    total_force: [0, 0, 0.002]\n"
-      "markers:\n  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
-      "time: {{dt: 0.05, steps: 6}}\n"
-      "output: {{pvd: false}}\n",
-      youngModulus);
+  return test::bentBeamScene(youngModulus, "pvd: false");
 }
 
 TEST(AssimilationCli, ThreadsOverrideTheSceneAndLeaveTheEstimatesAlone) {

@@ -13,6 +13,7 @@
 
 #include "bcassim/io/BinaryArchive.h"
 #include "bcassim/run/AssimilationCheckpoint.h"
+#include "support/BentBeamScene.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -25,16 +26,7 @@ using test::writeText;
 
 // A beam bent by a tip load (20 nodes, 2 markers), 6 steps with a checkpoint every 2.
 std::string mpiBeam(double youngModulus) {
-  return fmt::format(
-      "mesh: {{generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}}\n"
-      "material: {{model: stvk, young_modulus: {}, poisson_ratio: 0.3}}\n"
-      "fixed:\n  - region: {{box: {{min: [-1, -1, -1], max: [0.0001, 1, 1]}}}}\n"
-      "loads:\n  - region: {{box: {{min: [0.0999, -1, -1], max: [1, 1, 1]}}}}\n"
-      "    total_force: [0, 0, 0.002]\n"
-      "markers:\n  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
-      "time: {{dt: 0.05, steps: 6}}\n"
-      "output: {{pvd: false, every: 2}}\n",
-      youngModulus);
+  return test::bentBeamScene(youngModulus, "pvd: false, every: 2");
 }
 
 const char* kMpiParameter =
