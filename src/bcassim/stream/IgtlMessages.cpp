@@ -47,6 +47,13 @@ std::string printable(const std::string& raw) {
   return out;
 }
 
+// The body's CRC-64 as the header announces it (bytes 50-57, big-endian).
+std::uint64_t headerCrc(const unsigned char* header) {
+  std::uint64_t crc = 0;
+  for (int i = 50; i < 58; ++i) crc = crc << 8 | header[i];
+  return crc;
+}
+
 // "marker_<i>" or "<i>" -> i; -1 otherwise.
 long markerIndexOf(const std::string& name) {
   std::string digits = name;
@@ -94,9 +101,7 @@ std::vector<NamedPoint> decodeIgtlPoints(const unsigned char* header, const unsi
   if (size == 0) {
     // A frame without points (every marker hidden). The library's unpacking reports an empty
     // body as a failed CRC; the CRC of no bytes is 0.
-    std::uint64_t crc = 0;
-    for (int i = 50; i < 58; ++i) crc = crc << 8 | header[i];
-    if (crc != 0)
+    if (headerCrc(header) != 0)
       throw InputError(fmt::format("POINT '{}': the body's CRC does not match its header", device));
     return {};
   }
@@ -124,9 +129,7 @@ std::vector<NamedPoint> decodeIgtlPolyDataPoints(const unsigned char* header,
   // Read here rather than by the library's unpacking, which trusts the body's counts: the CRC,
   // then the point count (first of ten big-endian uint32 counts) and the float32 points.
   const IgtlHeader h = decodeIgtlHeader(header);
-  std::uint64_t crc = 0;
-  for (int i = 50; i < 58; ++i) crc = crc << 8 | header[i];
-  if (crc64(const_cast<unsigned char*>(body), h.bodySize, 0) != crc)
+  if (crc64(const_cast<unsigned char*>(body), h.bodySize, 0) != headerCrc(header))
     throw InputError(
         fmt::format("POLYDATA '{}': the body's CRC does not match its header", h.device));
   const auto uint32At = [&](std::uint64_t at) {
