@@ -35,7 +35,7 @@ const std::vector<CommandOptions> kCommands = {
     {"atlas loo", true, false, false, true},       {"liver prepare", true, false, false, true},
     {"liver run", true, true, true, true},         {"liver tracked", true, true, true, true},
     {"track", true, false, false, false},          {"register", true, false, false, false},
-    {"ligament fit", true, false, false, false},
+    {"ligament fit", true, false, false, false},   {"ligament springs", true, false, false, false},
 };
 
 using test::contains;

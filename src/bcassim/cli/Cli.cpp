@@ -47,6 +47,7 @@ std::vector<std::unique_ptr<Command>> allCommands() {
   commands.push_back(makeAtlasTransferCommand());
   commands.push_back(makeAtlasLooCommand());
   commands.push_back(makeLigamentFitCommand());
+  commands.push_back(makeLigamentSpringsCommand());
   commands.push_back(makeLiverPrepareCommand());
   commands.push_back(makeLiverRunCommand());
   commands.push_back(makeLiverTrackedCommand());

@@ -26,6 +26,7 @@ std::unique_ptr<Command> makeServeCommand();
 std::unique_ptr<Command> makeReplayCommand();
 // LigamentCommands.cpp
 std::unique_ptr<Command> makeLigamentFitCommand();
+std::unique_ptr<Command> makeLigamentSpringsCommand();
 // AtlasCommands.cpp
 std::unique_ptr<Command> makeAtlasDistanceCommand();
 std::unique_ptr<Command> makeAtlasRegisterCommand();

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <charconv>
+#include <cmath>
 #include <string>
 #include <system_error>
 
@@ -51,6 +52,20 @@ CLI::Option* checkNonNegative(CLI::Option* option) {
       },
       "NONNEGATIVE");
   return option->check(nonNegative);
+}
+
+CLI::Option* checkPositive(CLI::Option* option) {
+  const CLI::Validator positive(
+      [](const std::string& text) -> std::string {
+        double v = 0.0;
+        const char* end = text.data() + text.size();
+        const auto [last, error] = std::from_chars(text.data(), end, v);
+        if (error != std::errc() || last != end || !(v > 0.0) || !std::isfinite(v))
+          return fmt::format("expected a number > 0, got '{}'", text);
+        return "";
+      },
+      "POSITIVE");
+  return option->check(positive);
 }
 
 CLI::Option* addNoPlotsFlag(CLI::App& app, bool& noPlots) {

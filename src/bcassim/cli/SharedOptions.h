@@ -32,6 +32,9 @@ CLI::Option* addNoPlotsFlag(CLI::App& app, bool& noPlots);
 // number >= 0, got '-1'"). Returns the option.
 CLI::Option* checkNonNegative(CLI::Option* option);
 
+// The same for a number > 0 ("--x: expected a number > 0, got '0'").
+CLI::Option* checkPositive(CLI::Option* option);
+
 // --scale: metres per unit of a surface file (the shared livers are in mm).
 CLI::Option* addScaleOption(CLI::App& app, double& metresPerUnit);
 
