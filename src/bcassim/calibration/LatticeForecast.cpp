@@ -1,5 +1,8 @@
 #include "bcassim/calibration/LatticeForecast.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "bcassim/Error.h"
 
 namespace bcassim {
@@ -10,6 +13,11 @@ LatticeForecast::LatticeForecast(const SpringLattice& lattice, std::vector<doubl
       displacements_(std::move(displacements)),
       reference_(lattice.restPositions()) {
   if (displacements_.empty()) throw InputError("spring lattice forecast: no frame");
+}
+
+CubicSpringCoefficients LatticeForecast::coefficients(const Eigen::VectorXd& params) {
+  const double a = std::max(params(0), 0.0), g = std::max(params(2), 0.0);
+  return {a, std::max(params(1), -2.0 * std::sqrt(a * g)), g};
 }
 
 Eigen::Index LatticeForecast::observableSize() const {

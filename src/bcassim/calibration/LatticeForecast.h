@@ -28,9 +28,10 @@ class LatticeForecast final : public ForecastModel {
   int frame() const { return frame_; }
   const LatticeStretch& stretch() const { return stretch_; }
 
-  static CubicSpringCoefficients coefficients(const Eigen::VectorXd& params) {
-    return {params(0), params(1), params(2)};
-  }
+  // The spring law of parameters (k_alpha, k_beta, k_gamma), made one whose force stays >= 0 for
+  // every extension (a law that pushes when stretched has no stable stretch): k_alpha and k_gamma
+  // at least 0, k_beta at least -2 sqrt(k_alpha k_gamma).
+  static CubicSpringCoefficients coefficients(const Eigen::VectorXd& params);
 
  private:
   void observe(double reaction, const Eigen::VectorXd& x, Eigen::VectorXd& observable) const;

@@ -162,7 +162,8 @@ SpringCalibrationResult calibrateSprings(const SpringCalibrationOptions& options
 
   // The filter's start: the reactions of the lattice placed at the membrane's positions, linear in
   // the coefficients, fitted by least squares. k_gamma and a positive k_alpha are estimated in log
-  // space (they stay positive); k_beta, which a softening law makes negative, as it is.
+  // space (they stay positive); k_beta, which a softening law makes negative, as it is (the law
+  // made one that never pushes, LatticeForecast::coefficients).
   LatticeStretch stretch(lattice);
   Eigen::MatrixXd A(options.frames, 3);
   Eigen::VectorXd b(options.frames);
@@ -175,6 +176,8 @@ SpringCalibrationResult calibrateSprings(const SpringCalibrationOptions& options
     k0.setZero();
     k0(2) = std::max(A.col(2).dot(b) / A.col(2).squaredNorm(), 1e-12);
   }
+  const CubicSpringCoefficients admissible = LatticeForecast::coefficients(k0);
+  k0 << admissible.kAlpha, admissible.kBeta, admissible.kGamma;
   // Extension of a spring along the length at the largest strain: the scale of each term.
   const double delta = options.strain * length / options.latticeY;
   const double forceScale = std::max(
@@ -217,7 +220,7 @@ SpringCalibrationResult calibrateSprings(const SpringCalibrationOptions& options
     out.stepMean.push_back(r.mean.head<3>());
     out.stepStddev.push_back(r.stddev.head<3>());
   }
-  out.estimated = {out.stepMean.back()(0), out.stepMean.back()(1), out.stepMean.back()(2)};
+  out.estimated = LatticeForecast::coefficients(out.stepMean.back());
   out.stddev = out.stepStddev.back();
 
   // The estimated lattice pulled like the membrane (timed), then under the membrane's reaction.
@@ -269,14 +272,19 @@ SpringCalibrationResult calibrateSprings(const SpringCalibrationOptions& options
   out.attachmentMeanError = sumAttachment / countedAttachment;
   out.lastMembrane = truth.back();
   out.lastLattice = xf;
-  std::vector<double> fem, msm;
+  std::vector<double> fem, msm, femIteration, msmIteration;
   for (const SpringFrame& f : out.frames) {
     fem.push_back(1e3 * f.membraneSeconds);
     msm.push_back(1e3 * f.latticeSeconds);
+    femIteration.push_back(fem.back() / std::max(f.membraneIterations, 1));
+    msmIteration.push_back(msm.back() / std::max(f.latticeIterations, 1));
   }
   out.membraneMedianMs = median(fem);
   out.latticeMedianMs = median(msm);
   out.speedRatio = out.membraneMedianMs / out.latticeMedianMs;
+  out.membraneMedianMsPerIteration = median(femIteration);
+  out.latticeMedianMsPerIteration = median(msmIteration);
+  out.iterationSpeedRatio = out.membraneMedianMsPerIteration / out.latticeMedianMsPerIteration;
 
   // Priors per metre of width: the cubic fit of the estimated lattice's reaction curve, and its
   // spread over the symmetric sigma points of the filter's covariance (in its own space).

@@ -68,6 +68,10 @@ struct SpringCalibrationResult {
   Eigen::VectorXd lastMembrane, lastLattice;
   double maxReactionError = 0;  // max over frames of |R_lattice - R_membrane| / R_membrane
   double membraneMedianMs = 0, latticeMedianMs = 0, speedRatio = 0;  // per frame's solve
+  // The same per Newton iteration (a frame's time over its iterations): the membrane's Newton
+  // needs more iterations per frame than the lattice's, which the per-frame ratio includes.
+  double membraneMedianMsPerIteration = 0, latticeMedianMsPerIteration = 0;
+  double iterationSpeedRatio = 0;
   // The strip's reaction F(d) = Ka d^3 + Kb d^2 + Kg d (d its elongation, m) fitted to the
   // estimated lattice over the frames, divided by the width: the coefficients one metre of
   // ligament width gives a spring of rest length = the strip's length (N/m^3, N/m^2, N/m per m of

@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -169,16 +171,16 @@ class LigamentSpringsCommand : public Command {
     app.add_option("--frames", o.frames, "Quasi-static frames from 0 to --strain")
         ->capture_default_str();
     app.add_option("--passes", o.passes, "Loading passes the filter sees")->capture_default_str();
-    app.add_option("--membrane-cells", membraneCells_,
-                   "Hexahedra of the membrane mesh across, along, through (6 tets each)")
-        ->expected(3)
-        ->capture_default_str();
     app.add_option("--lattice-cells", latticeCells_,
-                   "Spring lattice cells across and along (they divide the membrane's)")
-        ->expected(2)
-        ->capture_default_str();
+                   "Spring lattice cells across and along (default: 4 across, square cells "
+                   "along: 4 x 10 for 40 x 100 mm)")
+        ->expected(2);
+    app.add_option("--membrane-cells", membraneCells_,
+                   "Hexahedra of the membrane mesh across, along, through, 6 tets each; they must "
+                   "be multiples of the lattice's (default: 4 times the lattice's, 1 through)")
+        ->expected(3);
     checkPositive(app.add_option("--force-sigma", o.forceSigma,
-                                 "Observation sigma of the reaction, relative to the largest, -"))
+                                 "Observation sigma of the reaction, relative to the frame's, -"))
         ->capture_default_str();
     checkNonNegative(app.add_option("--position-sigma", o.positionSigma,
                                     "Observation sigma of the node positions, m (0: not observed)"))
@@ -193,6 +195,11 @@ class LigamentSpringsCommand : public Command {
     else if (youngOption_->count() == 0)
       throw InputError("--young or --fit: the membrane's Young's modulus is required");
     o.membrane.material = material_ == "neo-hookean" ? "neohookean" : material_;
+    if (latticeCells_.empty()) {
+      const double along = 4.0 * o.membrane.size(1) / o.membrane.size(0);
+      latticeCells_ = {4, std::max(1, static_cast<int>(std::lround(along)))};
+    }
+    if (membraneCells_.empty()) membraneCells_ = {4 * latticeCells_[0], 4 * latticeCells_[1], 1};
     o.membrane.cellsX = membraneCells_[0];
     o.membrane.cellsY = membraneCells_[1];
     o.membrane.cellsZ = membraneCells_[2];
@@ -229,8 +236,11 @@ class LigamentSpringsCommand : public Command {
         "all nodes mean {:.3f} mm, max {:.3f} mm\n",
         1e3 * r.attachmentMeanError, 1e3 * r.attachmentMaxError, 1e3 * r.meanError,
         1e3 * r.maxError);
-    fmt::print("time per frame: membrane {:.3f} ms, springs {:.4f} ms (median), ratio {:.1f}x\n",
-               r.membraneMedianMs, r.latticeMedianMs, r.speedRatio);
+    fmt::print(
+        "time per frame: membrane {:.3f} ms, springs {:.4f} ms (median), ratio {:.1f}x; per "
+        "Newton iteration: {:.3f} ms, {:.4f} ms, ratio {:.1f}x\n",
+        r.membraneMedianMs, r.latticeMedianMs, r.speedRatio, r.membraneMedianMsPerIteration,
+        r.latticeMedianMsPerIteration, r.iterationSpeedRatio);
     for (int c = 0; c < 3; ++c)
       fmt::print("prior per metre {}: {:.6g} ± {:.3g} {} per m (rest length {:g} m)\n", names[c],
                  r.perMetre[c].mean, r.perMetre[c].stddev, units[c], o.membrane.size(1));
@@ -281,10 +291,10 @@ class LigamentSpringsCommand : public Command {
                        r.stddev(c), units[c]);
     y << fmt::format(
         "  comparison: {{attachment_mean_error: {:.6g}, attachment_max_error: {:.6g}, "
-        "mean_error: {:.6g}, max_error: {:.6g}, max_reaction_error: {:.6g}, speed_ratio: {:.4g}}}"
-        "  # m, m, m, m, -, -\n",
+        "mean_error: {:.6g}, max_error: {:.6g}, max_reaction_error: {:.6g}, speed_ratio: {:.4g}, "
+        "speed_ratio_per_iteration: {:.4g}}}  # m, m, m, m, -, -, -\n",
         r.attachmentMeanError, r.attachmentMaxError, r.meanError, r.maxError, r.maxReactionError,
-        r.speedRatio);
+        r.speedRatio, r.iterationSpeedRatio);
 
     std::ofstream f(dir / "frames.csv");
     f << "frame,strain,displacement_m,membrane_reaction_N,lattice_reaction_N,"
@@ -318,7 +328,7 @@ class LigamentSpringsCommand : public Command {
 
   SpringCalibrationOptions options_;
   std::string material_ = "neo-hookean", fit_, out_ = "out/ligament-springs";
-  std::vector<int> membraneCells_ = {16, 40, 1}, latticeCells_ = {4, 10};
+  std::vector<int> membraneCells_, latticeCells_;  // empty: from the size (see --help)
   CLI::Option* youngOption_ = nullptr;
 };
 
