@@ -1,6 +1,6 @@
 """Tracking, atlas and calibration from Python: marker identities through shuffles and a dropout,
 rigid registration of points to a surface, surface distances, LDDMM registration, a small atlas,
-a hyperelastic law fitted to a uniaxial curve. SI units."""
+a hyperelastic law fitted to a uniaxial curve, springs fitted to a stretched membrane. SI units."""
 import numpy as np
 import pytest
 
@@ -108,3 +108,16 @@ def test_a_hyperelastic_law_is_fitted_to_a_curve(tmp_path):
     path.write_text("strain,nominal_stress_MPa\n0,0\n0.1,0.01\n")
     with pytest.raises(bcassim.InputError, match="stress in MPa; expected Pa"):
         bcassim.calibration.read_uniaxial_curve(str(path))
+
+
+def test_springs_fitted_to_a_small_membrane_reproduce_its_reaction():
+    r = bcassim.calibration.calibrate_springs(
+        403e3, 1e-3, 0.04, 0.1, membrane_cells=(8, 20, 1), lattice_cells=(4, 10))
+    membrane, lattice = r.frames[:, 2], r.frames[:, 3]
+    assert r.frames.shape == (9, 4)
+    np.testing.assert_allclose(lattice, membrane, rtol=0.05)
+    assert r.attachment_max_error < 1e-3
+    assert r.per_metre[1, 0] < 0 < r.per_metre[2, 0]  # Neo-Hookean softens: K_beta < 0
+    with pytest.raises(bcassim.InputError, match="must divide"):
+        bcassim.calibration.calibrate_springs(403e3, 1e-3, 0.04, 0.1, lattice_cells=(3, 10))
+
