@@ -67,6 +67,7 @@ std::vector<double> reactionCurve(const SpringLattice& lattice, const CubicSprin
   LatticeStretch stretch(lattice);
   Eigen::VectorXd x = lattice.restPositions();
   std::vector<double> R;
+  R.reserve(displacements.size());
   for (double d : displacements) R.push_back(stretch.solve(k, d, x));
   return R;
 }

@@ -171,9 +171,10 @@ class LigamentSpringsCommand : public Command {
     app.add_option("--frames", o.frames, "Quasi-static frames from 0 to --strain")
         ->capture_default_str();
     app.add_option("--passes", o.passes, "Loading passes the filter sees")->capture_default_str();
-    app.add_option("--lattice-cells", latticeCells_,
-                   "Spring lattice cells across and along (default: 4 across, square cells "
-                   "along: 4 x 10 for 40 x 100 mm)")
+    app.add_option(
+           "--lattice-cells", latticeCells_,
+           "Spring lattice cells across and along (default: 4 across, square cells, at least 2, "
+           "along: 4 x 10 for 40 x 100 mm)")
         ->expected(2);
     app.add_option("--membrane-cells", membraneCells_,
                    "Hexahedra of the membrane mesh across, along, through, 6 tets each; they must "
@@ -197,7 +198,7 @@ class LigamentSpringsCommand : public Command {
     o.membrane.material = material_ == "neo-hookean" ? "neohookean" : material_;
     if (latticeCells_.empty()) {
       const double along = 4.0 * o.membrane.size(1) / o.membrane.size(0);
-      latticeCells_ = {4, std::max(1, static_cast<int>(std::lround(along)))};
+      latticeCells_ = {4, std::max(2, static_cast<int>(std::lround(along)))};
     }
     if (membraneCells_.empty()) membraneCells_ = {4 * latticeCells_[0], 4 * latticeCells_[1], 1};
     o.membrane.cellsX = membraneCells_[0];
