@@ -171,10 +171,9 @@ class LigamentSpringsCommand : public Command {
     app.add_option("--frames", o.frames, "Quasi-static frames from 0 to --strain")
         ->capture_default_str();
     app.add_option("--passes", o.passes, "Loading passes the filter sees")->capture_default_str();
-    app.add_option(
-           "--lattice-cells", latticeCells_,
-           "Spring lattice cells across and along (default: 4 across, square cells, at least 2, "
-           "along: 4 x 10 for 40 x 100 mm)")
+    app.add_option("--lattice-cells", latticeCells_,
+                   "Spring lattice cells across and along (default: 4 across, and along as many as "
+                   "make square cells, at least 2: 4 x 10 for 40 x 100 mm)")
         ->expected(2);
     app.add_option("--membrane-cells", membraneCells_,
                    "Hexahedra of the membrane mesh across, along, through, 6 tets each; they must "
