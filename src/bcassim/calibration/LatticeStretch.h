@@ -4,6 +4,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/SparseCholesky>
+#include <array>
 #include <vector>
 
 #include "bcassim/calibration/SpringLattice.h"
@@ -43,7 +44,12 @@ class LatticeStretch {
   int numFree_ = 0;
   int iterations_ = 0;
   Eigen::VectorXd f_;
-  std::vector<Eigen::Triplet<double>> triplets_, freeTriplets_;
+  // The free dofs' stiffness, its pattern fixed (every spring's blocks, slack or not) and analysed
+  // once; per spring the value slots of its blocks aa, bb, ab, ba (9 each, row-major, -1 where a
+  // dof is not free); the diagonal's slots.
+  SparseMatrix K_;
+  std::vector<std::array<int, 36>> slots_;
+  std::vector<int> diagonal_;
   Eigen::SimplicialLDLT<SparseMatrix> ldlt_;
 };
 

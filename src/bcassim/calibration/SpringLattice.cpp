@@ -56,31 +56,43 @@ double SpringLattice::energy(const Eigen::VectorXd& x, const CubicSpringCoeffici
   return W;
 }
 
+bool SpringLattice::springForce(const Eigen::VectorXd& x, const CubicSpringCoefficients& k,
+                                size_t s, Vec3& force, Mat3* H) const {
+  const LatticeSpring& sp = springs_[s];
+  const Vec3 d = x.segment<3>(3 * sp.b) - x.segment<3>(3 * sp.a);
+  const double L = d.norm();
+  const double dl = L - sp.restLength;
+  if (dl <= 0.0) return false;  // tension-only (eq. 2.26)
+  const Vec3 n = d / L;
+  const double g = CubicSpringSet::magnitude(k, dl);
+  // W = potential(|x_b - x_a| - L0): dW/dx_b = g n, dW/dx_a = -g n.
+  force = g * n;
+  if (H) {
+    const Mat3 nn = n * n.transpose();
+    *H = CubicSpringSet::magnitudeDerivative(k, dl) * nn + g / L * (Mat3::Identity() - nn);
+  }
+  return true;
+}
+
 void SpringLattice::forces(const Eigen::VectorXd& x, const CubicSpringCoefficients& k,
                            Eigen::VectorXd& f, std::vector<Eigen::Triplet<double>>* K) const {
   f.setZero(x.size());
   if (K) K->clear();
-  for (const LatticeSpring& s : springs_) {
-    const Vec3 d = x.segment<3>(3 * s.b) - x.segment<3>(3 * s.a);
-    const double L = d.norm();
-    const double dl = L - s.restLength;
-    if (dl <= 0.0) continue;  // tension-only (eq. 2.26)
-    const Vec3 n = d / L;
-    const double g = CubicSpringSet::magnitude(k, dl);
-    // W = potential(|x_b - x_a| - L0): dW/dx_b = g n, dW/dx_a = -g n.
-    f.segment<3>(3 * s.b) += g * n;
-    f.segment<3>(3 * s.a) -= g * n;
+  Vec3 force;
+  Mat3 H;
+  for (size_t s = 0; s < springs_.size(); ++s) {
+    if (!springForce(x, k, s, force, K ? &H : nullptr)) continue;
+    const int a = springs_[s].a, b = springs_[s].b;
+    f.segment<3>(3 * b) += force;
+    f.segment<3>(3 * a) -= force;
     if (!K) continue;
-    const Mat3 nn = n * n.transpose();
-    const Mat3 H =
-        CubicSpringSet::magnitudeDerivative(k, dl) * nn + g / L * (Mat3::Identity() - nn);
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) {
         const double h = H(r, c);
-        K->emplace_back(3 * s.a + r, 3 * s.a + c, h);
-        K->emplace_back(3 * s.b + r, 3 * s.b + c, h);
-        K->emplace_back(3 * s.a + r, 3 * s.b + c, -h);
-        K->emplace_back(3 * s.b + r, 3 * s.a + c, -h);
+        K->emplace_back(3 * a + r, 3 * a + c, h);
+        K->emplace_back(3 * b + r, 3 * b + c, h);
+        K->emplace_back(3 * a + r, 3 * b + c, -h);
+        K->emplace_back(3 * b + r, 3 * a + c, -h);
       }
   }
 }

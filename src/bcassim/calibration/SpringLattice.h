@@ -32,6 +32,11 @@ class SpringLattice {
 
   // Stored energy (J) of positions x (3N) with coefficients k.
   double energy(const Eigen::VectorXd& x, const CubicSpringCoefficients& k) const;
+  // Spring s at positions x: false when slack (no force, no stiffness); else its force on node b
+  // (N; -force on node a) and, when H is not null, d(force)/d(x_b) (N/m; the stiffness blocks
+  // are H on aa and bb, -H on ab and ba).
+  bool springForce(const Eigen::VectorXd& x, const CubicSpringCoefficients& k, size_t s,
+                   Vec3& force, Mat3* H) const;
   // Internal forces dW/dx (N, 3N) and, when K is not null, the stiffness d2W/dx2 (N/m) as
   // triplets (K is cleared first).
   void forces(const Eigen::VectorXd& x, const CubicSpringCoefficients& k, Eigen::VectorXd& f,
