@@ -40,7 +40,8 @@ struct SpringFrame {
   double forceDrivenDisplacement = 0;
   double attachmentMeanError = 0, attachmentMaxError = 0;
   double meanError = 0, maxError = 0;
-  double membraneSeconds = 0, latticeSeconds = 0;     // wall time of the frame's solve, s
+  // Wall time of the frame's solve, s (the lattice's: median of 5 repeats of the stretch).
+  double membraneSeconds = 0, latticeSeconds = 0;
   int membraneIterations = 0, latticeIterations = 0;  // Newton iterations of that solve
 };
 
