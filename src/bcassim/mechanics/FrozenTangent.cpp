@@ -42,17 +42,76 @@ void springScatterAdd(const MechanicalModel& model, const Eigen::VectorXd& q, bo
                      [&](Eigen::Index j, int d, double w) { out(d) += w * q(j); });
 }
 
+Eigen::VectorXd blockDiagonalTimes(const Eigen::MatrixXd& D, const Eigen::VectorXd& v) {
+  Eigen::VectorXd out(v.size());
+  for (Eigen::Index b = 0; b < D.rows(); b += 3)
+    out.segment<3>(b) = D.middleRows<3>(b) * v.segment<3>(b);
+  return out;
+}
+
+Eigen::MatrixXd FrozenTangent::springChange(const MechanicalModel& model, const Eigen::VectorXd& x,
+                                            double t) const {
+  if (!correctsSprings()) return {};
+  const size_t springs = springBlocks_.size();
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(springs), 3);
+  for (size_t k = 0; k < springs; ++k)
+    D.block<3, 3>(3 * static_cast<Eigen::Index>(k), 0) =
+        model.springs.attachmentStiffness(*model.mesh, x, t, k) - springBlocks_[k];
+  return D;
+}
+
+void FrozenTangent::solve(const MechanicalModel& model, const Eigen::MatrixXd& D,
+                          const Eigen::VectorXd& b, Eigen::VectorXd& y,
+                          CholeskyFactor::Workspace& work, bool singlePrecision) const {
+  if (singlePrecision)
+    factor_->solveSinglePrecision(b, y, work);
+  else
+    factor_->solve(b, y, work);
+  if (D.size() == 0 || !D.any()) return;
+  // Woodbury (springSolutions): y -= Z (I + c D G)^-1 c D U^T y.
+  const double c = stiffnessScale_;
+  Eigen::MatrixXd system = Eigen::MatrixXd::Identity(G_.rows(), G_.cols());
+  for (Eigen::Index k = 0; k < D.rows(); k += 3)
+    system.middleRows<3>(k) += c * D.middleRows<3>(k) * G_.middleRows<3>(k);
+  const Eigen::VectorXd w =
+      system.partialPivLu().solve(c * blockDiagonalTimes(D, springGather(model, y, true)));
+  y.noalias() -= Z_ * w;
+}
+
+void FrozenTangent::moveKnownSpringColumns(const MechanicalModel& model, const Eigen::MatrixXd& D,
+                                           const Eigen::VectorXd& known, Eigen::VectorXd& b) const {
+  if (D.size() == 0 || !D.any() || !known.any()) return;
+  Eigen::VectorXd moved = Eigen::VectorXd::Zero(b.size());
+  springScatterAdd(model, blockDiagonalTimes(D, springGather(model, known, false)), false, moved);
+  b -= stiffnessScale_ * moved;
+}
+
 std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel& model,
                                                           const MechanicalState& state, double dt,
                                                           const CholeskyFactor* analysis) {
+  return assemble(model, state, dt, false, analysis);
+}
+
+std::shared_ptr<const FrozenTangent> FrozenTangent::buildStatic(const MechanicalModel& model,
+                                                                const MechanicalState& state,
+                                                                const CholeskyFactor* analysis) {
+  return assemble(model, state, 0.0, true, analysis);
+}
+
+std::shared_ptr<const FrozenTangent> FrozenTangent::assemble(const MechanicalModel& model,
+                                                             const MechanicalState& state,
+                                                             double dt, bool isStatic,
+                                                             const CholeskyFactor* analysis) {
   const auto start = Clock::now();
   auto t = std::make_shared<FrozenTangent>();
+  t->static_ = isStatic;
   t->dt_ = dt;
-  t->stiffnessScale_ = implicitEulerStiffnessScale(model, dt);
+  t->stiffnessScale_ = isStatic ? 1.0 : implicitEulerStiffnessScale(model, dt);
   Eigen::VectorXd f;
   model.internalForcesAndStiffness(state.t, state.x, f, t->K_);
+  t->diagonalNorm_ = t->K_.diagonal().norm();
   t->A_ = t->K_;
-  stiffnessToImplicitEulerMatrix(model, dt, t->A_);
+  if (!isStatic) stiffnessToImplicitEulerMatrix(model, dt, t->A_);
   SparseMatrix eliminated = t->A_;
   model.dirichlet.eliminateMatrix(eliminated);
   const auto assembled = Clock::now();

@@ -1,7 +1,8 @@
-// The implicit-Euler matrix of one linearisation point, factorised once and shared read-only by
-// many integrations: the W of a linearly implicit (Rosenbrock-W) Euler step, e.g. the tangent at
-// a Kalman filter's mean used by all of its sigma points. The ligament springs, whose stiffness
-// the estimated parameters change, can be made each step's own by a low-rank correction.
+// The implicit-Euler matrix (or, for static frames, the stiffness) of one linearisation point,
+// factorised once and shared read-only by many solves: the W of a linearly implicit
+// (Rosenbrock-W) Euler step or the K of a chord (modified Newton) step, e.g. the tangent at a
+// Kalman filter's mean used by all of its sigma points. The ligament springs, whose stiffness the
+// estimated parameters change, can be made each step's own by a low-rank correction.
 #pragma once
 #include <memory>
 #include <vector>
@@ -25,12 +26,20 @@ class FrozenTangent {
   static std::shared_ptr<const FrozenTangent> build(const MechanicalModel& model,
                                                     const MechanicalState& state, double dt,
                                                     const CholeskyFactor* analysis = nullptr);
+  // The same for static equilibria: A = K (stiffnessScale() 1, dt() 0), for
+  // StaticSolver::chordSolve. Throws NumericalError if K is not positive definite.
+  static std::shared_ptr<const FrozenTangent> buildStatic(const MechanicalModel& model,
+                                                          const MechanicalState& state,
+                                                          const CholeskyFactor* analysis = nullptr);
+  bool isStatic() const { return static_; }
 
   double dt() const { return dt_; }
-  // Multiplier of K in A: dt zeta_K + dt^2.
+  // Multiplier of K in A: dt zeta_K + dt^2 (1 for a static tangent).
   double stiffnessScale() const { return stiffnessScale_; }
   // K at the linearisation point (N/m), with the pattern's structure.
   const SparseMatrix& stiffness() const { return K_; }
+  // |diag K| (N/m), for the round-off floor of a residual (forceRoundOff).
+  double stiffnessDiagonalNorm() const { return diagonalNorm_; }
   // A before Dirichlet elimination: its constrained columns move known values to a right-hand side.
   const SparseMatrix& systemMatrix() const { return A_; }
   // Factor of A with the Dirichlet rows and columns eliminated.
@@ -53,7 +62,30 @@ class FrozenTangent {
   const Eigen::MatrixXd& springSolutions() const { return Z_; }            // Z, n x 3S
   const Eigen::MatrixXd& springGram() const { return G_; }                 // G, 3S x 3S
 
+  // D = blockdiag(H_s' - H_s) stacked as 3S x 3 blocks: the springs of `model` at (x, t) against
+  // the tangent's (empty without correction).
+  Eigen::MatrixXd springChange(const MechanicalModel& model, const Eigen::VectorXd& x,
+                               double t) const;
+  // y = (A + c U D U^T)^-1 b on the eliminated system (b already eliminated), D from
+  // springChange (empty or zero: A^-1 b), c = stiffnessScale(). singlePrecision: A^-1 through
+  // the factor rounded to float (CholeskyFactor::solveSinglePrecision, ~1e-3 relative on a
+  // liver): half the memory traffic, for iterations that correct their own error (chords).
+  void solve(const MechanicalModel& model, const Eigen::MatrixXd& D, const Eigen::VectorXd& b,
+             Eigen::VectorXd& y, CholeskyFactor::Workspace& work,
+             bool singlePrecision = false) const;
+  // b -= c U D U^T known (known: a full-length vector, zero but on constrained dofs): the
+  // springs' share of the constrained columns, before eliminateRightHandSide.
+  void moveKnownSpringColumns(const MechanicalModel& model, const Eigen::MatrixXd& D,
+                              const Eigen::VectorXd& known, Eigen::VectorXd& b) const;
+
  private:
+  static std::shared_ptr<const FrozenTangent> assemble(const MechanicalModel& model,
+                                                       const MechanicalState& state, double dt,
+                                                       bool isStatic,
+                                                       const CholeskyFactor* analysis);
+
+  bool static_ = false;
+  double diagonalNorm_ = 0;
   double dt_ = 0, stiffnessScale_ = 0, buildSeconds_ = 0;
   double assemblySeconds_ = 0, factorizationSeconds_ = 0, springSeconds_ = 0;
   SparseMatrix K_, A_;
@@ -69,5 +101,7 @@ Eigen::VectorXd springGather(const MechanicalModel& model, const Eigen::VectorXd
 // out += U q (U as above; Dirichlet rows left alone when `eliminated`).
 void springScatterAdd(const MechanicalModel& model, const Eigen::VectorXd& q, bool eliminated,
                       Eigen::VectorXd& out);
+// blockdiag(D_0, D_1, ...) v for D stacked as (3k x 3) blocks.
+Eigen::VectorXd blockDiagonalTimes(const Eigen::MatrixXd& D, const Eigen::VectorXd& v);
 
 }  // namespace bcassim

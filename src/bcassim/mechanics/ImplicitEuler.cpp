@@ -11,14 +11,6 @@
 
 namespace bcassim {
 namespace {
-// blockdiag(D_0, D_1, ...) v for D stacked as (3k x 3) blocks.
-Eigen::VectorXd blockDiagonalTimes(const Eigen::MatrixXd& D, const Eigen::VectorXd& v) {
-  Eigen::VectorXd out(v.size());
-  for (Eigen::Index b = 0; b < D.rows(); b += 3)
-    out.segment<3>(b) = D.middleRows<3>(b) * v.segment<3>(b);
-  return out;
-}
-
 constexpr const char* kIntegrator = "implicit Euler";
 
 // An element inverted before the step: no smaller step can mend that.
@@ -217,45 +209,25 @@ void ImplicitEuler::attemptWithTangent(const MechanicalModel& model, MechanicalS
   model.externalForces(tNext, fext_);
   Kv_.noalias() = tangent.stiffness() * s.v;
   // This state's own spring stiffness in place of the tangent's: blocks D_s = H_s' - H_s.
-  const bool correct = tangent.correctsSprings();
-  Eigen::MatrixXd D;
-  if (correct) {
-    const size_t springs = tangent.springBlocks().size();
-    D = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(springs), 3);
-    for (size_t k = 0; k < springs; ++k)
-      D.block<3, 3>(3 * static_cast<Eigen::Index>(k), 0) =
-          model.springs.attachmentStiffness(*model.mesh, s.x, s.t, k) - tangent.springBlocks()[k];
+  const Eigen::MatrixXd D = tangent.springChange(model, s.x, s.t);
+  if (D.size() > 0)
     springScatterAdd(model, blockDiagonalTimes(D, springGather(model, s.v, false)), false, Kv_);
-  }
   model.mass.multiply(s.v, Mv_);
   rhs_ = h * (fext_ - fint_ - model.rayleighMass * Mv_ - (model.rayleighStiffness + h) * Kv_);
-  const double c = tangent.stiffnessScale();
   if (!bc.empty()) {
     knownVelocityChange(model, rest_, s, h, tNext, knownDv_);
-    if (correct && knownDv_.any()) {  // the springs' share of the known columns
-      Eigen::VectorXd known = Eigen::VectorXd::Zero(rhs_.size()), moved = known;
+    if (D.size() > 0 && knownDv_.any()) {  // the springs' share of the known columns
+      Eigen::VectorXd known = Eigen::VectorXd::Zero(rhs_.size());
       for (Eigen::Index k = 0; k < knownDv_.size(); ++k)
         known(bc.constrainedDofs()[k]) = knownDv_(k);
-      springScatterAdd(model, blockDiagonalTimes(D, springGather(model, known, false)), false,
-                       moved);
-      rhs_ -= c * moved;
+      tangent.moveKnownSpringColumns(model, D, known, rhs_);
     }
     bc.eliminateRightHandSide(tangent.systemMatrix(), rhs_, knownDv_);
   }
   timings_.assembly += secondsBetween(t0, Clock::now());
 
   t0 = Clock::now();
-  tangent.factor().solve(rhs_, dv_, factorWork_);
-  if (correct && D.any()) {
-    // Woodbury (FrozenTangent::springSolutions): dv -= Z (I + c D G)^-1 c D U^T dv.
-    const Eigen::MatrixXd& G = tangent.springGram();
-    Eigen::MatrixXd system = Eigen::MatrixXd::Identity(G.rows(), G.cols());
-    for (Eigen::Index b = 0; b < D.rows(); b += 3)
-      system.middleRows<3>(b) += c * D.middleRows<3>(b) * G.middleRows<3>(b);
-    const Eigen::VectorXd w =
-        system.partialPivLu().solve(c * blockDiagonalTimes(D, springGather(model, dv_, true)));
-    dv_.noalias() -= tangent.springSolutions() * w;
-  }
+  tangent.solve(model, D, rhs_, dv_, factorWork_);
   ++timings_.linearSolves;
   timings_.lastSolve = {};
   timings_.solve += secondsBetween(t0, Clock::now());

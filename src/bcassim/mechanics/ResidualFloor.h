@@ -14,10 +14,13 @@ namespace bcassim {
 // the factor 10 leaves a margin and still stays below the tolerance of every example scene (the
 // closest: the membrane's first load step, 1e-9 of 0.25 N, is 3.7 times the floor), so that only
 // round-off is ever taken for converged.
-inline double forceRoundOff(const SparseMatrix& K, const Eigen::VectorXd& x) {
+inline double forceRoundOff(double stiffnessDiagonalNorm, const Eigen::VectorXd& x) {
   constexpr double kMargin = 10.0;
   return kMargin * std::numeric_limits<double>::epsilon() * x.cwiseAbs().maxCoeff() *
-         K.diagonal().norm();
+         stiffnessDiagonalNorm;
+}
+inline double forceRoundOff(const SparseMatrix& K, const Eigen::VectorXd& x) {
+  return forceRoundOff(K.diagonal().norm(), x);
 }
 
 }  // namespace bcassim

@@ -4,14 +4,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 #include "bcassim/Error.h"
+#include "bcassim/mechanics/InvertedElementError.h"
 #include "bcassim/mechanics/ResidualFloor.h"
+#include "bcassim/mechanics/solvers/AndersonMixing.h"
 
 namespace bcassim {
 
 namespace {
 constexpr const char* kIntegrator = "static solver";
+// Steps a chord iteration's Anderson mixing combines (AndersonMixing).
+constexpr int kChordMixingDepth = 5;
 }  // namespace
 
 // One solve(): the model, the time, the solution being built and the two ends of the load path.
@@ -174,6 +180,127 @@ void StaticSolver::newton(Increments& run, double lambda) {
           it + 1, report.residualNorm));
     x = run.trial;
   }
+}
+
+StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Eigen::VectorXd& x,
+                                      const FrozenTangent& tangent, int maxIterations,
+                                      bool singlePrecision) {
+  if (!tangent.isStatic())
+    throw std::invalid_argument("StaticSolver::chordSolve: needs a static tangent (K, not W)");
+  const DirichletConditions& bc = model.dirichlet;
+  const auto& fixed = bc.constrainedDofs();
+  StaticReport report;
+  model.externalForces(t, chordFext_);
+  const Eigen::VectorXd target =
+      bc.empty() ? Eigen::VectorXd() : bc.targetPositions(model.restPositions(), t);
+  // The residual f_ext - f_int at y (constrained entries zero) into chordRhs_, the prescribed
+  // motion still to make into chordKnown_; its norm.
+  const auto residualAt = [&](const Eigen::VectorXd& y) {
+    model.internalForces(t, y, chordFint_);
+    chordRhs_ = chordFext_ - chordFint_;
+    bc.zeroConstrained(chordRhs_);
+    chordKnown_.resize(static_cast<Eigen::Index>(fixed.size()));
+    for (size_t k = 0; k < fixed.size(); ++k)
+      chordKnown_(static_cast<Eigen::Index>(k)) =
+          target(static_cast<Eigen::Index>(k)) - y(fixed[k]);
+    return chordRhs_.norm();
+  };
+  const auto placeExactly = [&](Eigen::VectorXd& y) {  // not up to round-off
+    for (size_t k = 0; k < fixed.size(); ++k) y(fixed[k]) = target(static_cast<Eigen::Index>(k));
+  };
+  // The total potential energy at y (J), whose gradient is -(f_ext - f_int).
+  const Eigen::VectorXd rest = model.restPositions();
+  const auto potentialAt = [&](const Eigen::VectorXd& y) {
+    return model.storedEnergy(t, y) - chordFext_.dot(y - rest);
+  };
+  double norm = residualAt(x);
+  double potential = std::numeric_limits<double>::quiet_NaN();  // at x, once needed
+  report.initialResidualNorm = norm;
+  const double reference = std::max({chordFext_.norm(), chordFint_.norm(), 1e-300});
+  AndersonMixing mixing(kChordMixingDepth);
+  for (;;) {
+    report.residualNorm = norm;
+    if (!std::isfinite(norm))
+      throw NumericalError(
+          fmt::format("non-finite residual at chord iteration {}", report.iterations));
+    const double tolerance = std::max(options_.relativeTolerance * reference,
+                                      forceRoundOff(tangent.stiffnessDiagonalNorm(), x));
+    const bool placed = !chordKnown_.any();
+    if (norm <= tolerance && placed) {
+      report.converged = true;
+      break;
+    }
+    if (report.iterations == maxIterations) break;
+    ++report.iterations;
+    chordG_ = chordRhs_;  // f_ext - f_int on the free dofs, before elimination
+    const Eigen::MatrixXd D = tangent.springChange(model, x, t);
+    if (!bc.empty()) {
+      if (D.size() > 0 && !placed) {
+        Eigen::VectorXd known = Eigen::VectorXd::Zero(x.size());
+        for (size_t k = 0; k < fixed.size(); ++k)
+          known(fixed[k]) = chordKnown_(static_cast<Eigen::Index>(k));
+        tangent.moveKnownSpringColumns(model, D, known, chordRhs_);
+      }
+      bc.eliminateRightHandSide(tangent.systemMatrix(), chordRhs_, chordKnown_);
+    }
+    tangent.solve(model, D, chordRhs_, chordDx_, chordWork_, singlePrecision);
+    if (report.iterations == maxIterations) {
+      // The last step's residual is not evaluated: a linearised step needs none, and a solve
+      // that needed all of its steps is finished by Newton anyway.
+      x += chordDx_;
+      placeExactly(x);
+      model.elasticity.requireNoInverted(x);
+      break;
+    }
+    // The step that moves the prescribed dofs is taken whole. After it, Anderson-mixed steps are
+    // kept where they lower the residual; where they do not, the total potential energy decides
+    // (a nearly incompressible organ under a tool's point load can raise the residual along a
+    // good step): the mixed step or the plain chord step (a descent direction, K0 being positive
+    // definite), halved down to an eighth, kept at Armijo's sufficient decrease. An inverted
+    // element counts as no decrease.
+    if (!placed) mixing.clear();
+    const bool mixed = placed && mixing.willMix();
+    const Eigen::VectorXd step = placed ? mixing.step(x, chordDx_) : chordDx_;
+    const auto tryStep = [&](const Eigen::VectorXd& dx) {
+      chordTrial_ = x + dx;
+      placeExactly(chordTrial_);
+    };
+    tryStep(step);
+    double trialNorm = std::numeric_limits<double>::infinity();
+    try {
+      trialNorm = residualAt(chordTrial_);
+    } catch (const InvertedElementError&) {
+      if (!placed) throw;
+    }
+    double trialPotential = std::numeric_limits<double>::quiet_NaN();
+    if (!(trialNorm < norm) && placed) {
+      mixing.clear();
+      if (std::isnan(potential)) potential = potentialAt(x);
+      bool accepted = false;
+      const auto armijo = [&](double slope) {
+        if (!(slope < 0) || model.elasticity.countInverted(chordTrial_) > 0) return false;
+        trialPotential = potentialAt(chordTrial_);
+        return std::isfinite(trialPotential) &&
+               trialPotential <= potential + 1e-4 * slope + 1e-12 * std::abs(potential);
+      };
+      if (std::isfinite(trialNorm)) accepted = armijo(-chordG_.dot(step));
+      for (double alpha = mixed ? 1.0 : 0.5; !accepted && alpha >= 0.125; alpha *= 0.5) {
+        tryStep(alpha * chordDx_);
+        accepted = armijo(-alpha * chordG_.dot(chordDx_));
+      }
+      if (!accepted) {
+        residualAt(x);  // chordRhs_ and the report describe x again
+        break;
+      }
+      trialNorm = residualAt(chordTrial_);
+    }
+    if (!std::isfinite(trialNorm)) model.elasticity.requireNoInverted(chordTrial_);
+    x.swap(chordTrial_);
+    norm = trialNorm;
+    potential = trialPotential;
+  }
+  if (report.converged) equilibriumLoad_ = chordFext_;
+  return report;
 }
 
 }  // namespace bcassim

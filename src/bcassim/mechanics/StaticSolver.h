@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 
+#include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/mechanics/MechanicalModel.h"
 #include "bcassim/mechanics/StepFailure.h"
 #include "bcassim/mechanics/solvers/LinearSolver.h"
@@ -28,6 +29,7 @@ struct StaticReport {
   int iterations = 0;       // Newton iterations, total over load increments (failed ones included)
   int retries = 0;          // load increments that failed and were redone as two halves
   double residualNorm = 0;  // N, |f_int - f_ext| on the free dofs at the end
+  double initialResidualNorm = 0;  // N, the same at the start (chordSolve)
 };
 
 class StaticSolver {
@@ -44,6 +46,22 @@ class StaticSolver {
   // The next solve starts from an equilibrium under the external forces `load` (N, 3N; empty:
   // none, the rest state), e.g. a filter's forecasts that all start from the analysed mean.
   void continueFromLoad(Eigen::VectorXd load) { equilibriumLoad_ = std::move(load); }
+  // Chord (modified Newton) iterations towards the equilibrium at time t with a tangent frozen
+  // elsewhere (FrozenTangent::buildStatic, at another state or other parameters), the springs'
+  // own stiffness restored by its low-rank correction: steps A^-1 (f_ext(t) - f_int(x)), loads
+  // at once (no ramp), prescribed displacements reached by the first step. Later steps are
+  // Anderson-mixed (AndersonMixing) and kept only where they lower the residual, else the plain
+  // step, halved down to a quarter. Stops converged at Newton's tolerance; stops not converged
+  // after maxIterations steps (the residual after the last one is not evaluated) or when no step
+  // lowers the residual, leaving x at the last iterate for the caller to finish with solve().
+  // maxIterations = 1 makes one linearised step, a filter's sigma point about its mean. Throws
+  // InvertedElementError if x has an inverted element at the start, after the prescribed motion
+  // or after the last of maxIterations steps; the caller falls back to solve() from its start.
+  // singlePrecision: each step solves with the factor rounded to float (FrozenTangent::solve);
+  // the iterations converge to the same equilibrium, the residual being computed in double.
+  StaticReport chordSolve(const MechanicalModel& model, double t, Eigen::VectorXd& x,
+                          const FrozenTangent& tangent, int maxIterations,
+                          bool singlePrecision = false);
   // The solver of the Newton systems (to share a factorisation between workers).
   LinearSolver& linearSolver() { return *solver_; }
 
@@ -57,6 +75,8 @@ class StaticSolver {
   StaticOptions options_;
   SparseMatrix K_;
   Eigen::VectorXd equilibriumLoad_;  // f_ext the last solve ended at (N); empty before the first
+  Eigen::VectorXd chordFext_, chordFint_, chordRhs_, chordDx_, chordKnown_, chordTrial_, chordG_;
+  CholeskyFactor::Workspace chordWork_;
 };
 
 }  // namespace bcassim

@@ -1,0 +1,144 @@
+// Chord iterations with a frozen static tangent (StaticSolver::chordSolve, FrozenTangent::
+// buildStatic): they reach Newton's equilibrium from another one, prescribed motion included; for
+// the linear law one step from the tangent's own state is the exact solution; springs with other
+// coefficients than the tangent's are exact through the low-rank correction; a chord that cannot
+// converge says so instead of returning a half-solved state; a step that inverts an element throws.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bcassim/mechanics/InvertedElementError.h"
+#include "bcassim/mechanics/StaticSolver.h"
+#include "bcassim/mechanics/solvers/LinearSolverFactory.h"
+#include "bcassim/mesh/MeshGenerators.h"
+
+namespace bcassim {
+namespace {
+
+// A 300-node cylinder of `law`: the base fixed, the tip pushed sideways by a prescribed motion
+// growing with t, a sideways load at mid-length growing with t (ramps reaching 2 cm and 0.2 N at
+// t = 10 s).
+MechanicalModel chordCylinder(const std::string& law) {
+  auto mesh = std::make_shared<const TetMesh>(makeCylinderMesh(0.015, 0.18, 300));
+  MechanicalModel model =
+      makeMechanicalModel(mesh, {makeMaterial(law, 8000, 0.45)}, 1000, MassKind::Lumped);
+  std::vector<int> base, tip, middle;
+  for (int i = 0; i < mesh->numNodes(); ++i) {
+    if (mesh->V(i, 2) < 1e-9) base.push_back(i);
+    if (mesh->V(i, 2) > 0.18 - 1e-9) tip.push_back(i);
+    if (std::abs(mesh->V(i, 2) - 0.09) < 0.01 && mesh->V(i, 1) > 0.012) middle.push_back(i);
+  }
+  model.dirichlet = DirichletConditions(
+      {{base}, {tip, Vec3(0.02, 0, 0), {TimeProfile::Kind::Ramp, 10.0}}}, *model.pattern);
+  model.loads.push_back({middle, Vec3(0, 0.2 / middle.size(), 0), {TimeProfile::Kind::Ramp, 10.0}});
+  return model;
+}
+
+// Newton's equilibrium at time t from the rest state.
+Eigen::VectorXd newtonAt(const MechanicalModel& model, double t) {
+  StaticSolver newton(model, makeLinearSolver("cholmod"), {1e-12, 50, 4});
+  Eigen::VectorXd x = model.restPositions();
+  newton.solve(model, t, x);
+  return x;
+}
+
+// In double precision, and with the factor rounded to float (the residual stays in double, so
+// the iterations still converge to the equilibrium, only more of them may be needed).
+TEST(StaticChord, ReachesNewtonsEquilibriumFromAnotherOne) {
+  const MechanicalModel model = chordCylinder("neohookean");
+  const Eigen::VectorXd before = newtonAt(model, 1.0), exact = newtonAt(model, 1.2);
+  const MechanicalState at{before, Eigen::VectorXd::Zero(before.size()), 1.0};
+  const auto tangent = FrozenTangent::buildStatic(model, at);
+  ASSERT_TRUE(tangent->isStatic());
+  for (bool single : {false, true}) {
+    StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+    Eigen::VectorXd x = before;
+    const StaticReport report = chord.chordSolve(model, 1.2, x, *tangent, 30, single);
+    ASSERT_TRUE(report.converged) << single;
+    EXPECT_GE(report.iterations, 2);  // a nonlinear law: the first step alone is not the answer
+    const double moved = (exact - before).norm();
+    ASSERT_GT(moved, 1e-4);
+    EXPECT_LT((x - exact).norm(), 1e-8 * moved) << single;
+    const Eigen::VectorXd target = model.dirichlet.targetPositions(model.restPositions(), 1.2);
+    for (Eigen::Index k = 0; k < target.size(); ++k)
+      EXPECT_EQ(x(model.dirichlet.constrainedDofs()[k]), target(k));
+  }
+}
+
+TEST(StaticChord, OneStepOfTheLinearLawIsTheExactSolution) {
+  const MechanicalModel model = chordCylinder("linear");
+  const auto tangent = FrozenTangent::buildStatic(model, model.restState());
+  StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+  Eigen::VectorXd x = model.restPositions();
+  const StaticReport report = chord.chordSolve(model, 2.0, x, *tangent, 1);
+  EXPECT_EQ(report.iterations, 1);
+  const Eigen::VectorXd exact = newtonAt(model, 2.0);
+  EXPECT_LT((x - exact).norm(), 1e-10 * (exact - model.restPositions()).norm());
+}
+
+// What the estimated parameters change: a tangent built with 10x softer springs still gives the
+// step of the model's own tangent, since their stiffness is replaced exactly (Woodbury).
+TEST(StaticChord, SpringsOfTheStepReplaceTheTangentsExactly) {
+  MechanicalModel model = chordCylinder("neohookean");
+  std::vector<CubicSpring> springs;
+  for (int tet = 0; tet < model.mesh->numTets(); ++tet) {
+    Vec3 centre = Vec3::Zero();
+    for (int a = 0; a < 4; ++a) centre += 0.25 * model.mesh->V.row(model.mesh->T(tet, a));
+    if (std::abs(centre.z() - 0.12) > 0.01 || centre.y() < 0.008) continue;
+    springs.push_back({tet, Vec4::Constant(0.25), centre + Vec3(0, 0.01, 0.005), 0.01,
+                       static_cast<int>(springs.size() % 2)});
+  }
+  ASSERT_GE(springs.size(), 4u);
+  model.springs = CubicSpringSet(springs, {{200, 0, 5e4}, {100, 0, 2e4}});
+  const Eigen::VectorXd before = newtonAt(model, 1.0);
+  const MechanicalState at{before, Eigen::VectorXd::Zero(before.size()), 1.0};
+  MechanicalModel softer = model;
+  softer.springs.setCoefficients(0, {20, 0, 5e3});
+  softer.springs.setCoefficients(1, {10, 0, 2e3});
+  const auto frozen = FrozenTangent::buildStatic(softer, at);
+  const auto own = FrozenTangent::buildStatic(model, at);
+  ASSERT_TRUE(frozen->correctsSprings());
+  StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+  Eigen::VectorXd a = before, b = before;
+  chord.chordSolve(model, 1.3, a, *frozen, 1);
+  chord.chordSolve(model, 1.3, b, *own, 1);
+  ASSERT_GT((b - before).norm(), 1e-4);
+  EXPECT_LT((a - b).norm(), 1e-9 * (b - before).norm());
+}
+
+TEST(StaticChord, AChordThatCannotConvergeSaysSo) {
+  // The rest tangent of a Neo-Hookean cylinder, asked for an equilibrium far out: the chord
+  // crawls, and the solve stops unconverged rather than pass for an equilibrium.
+  const MechanicalModel model = chordCylinder("neohookean");
+  const auto tangent = FrozenTangent::buildStatic(model, model.restState());
+  StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+  Eigen::VectorXd x = model.restPositions();
+  StaticReport report;
+  try {
+    report = chord.chordSolve(model, 12.0, x, *tangent, 4);
+  } catch (const InvertedElementError&) {
+    return;  // also a refusal
+  }
+  EXPECT_FALSE(report.converged);
+  EXPECT_GT(report.residualNorm, 0.0);
+}
+
+TEST(StaticChord, AStepThatInvertsAnElementThrows) {
+  MechanicalModel model = chordCylinder("neohookean");
+  model.loads.front().forcePerNode *= 1e4;  // far beyond what the rest tangent can take in one step
+  const auto tangent = FrozenTangent::buildStatic(model, model.restState());
+  StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+  Eigen::VectorXd x = model.restPositions();
+  EXPECT_THROW(chord.chordSolve(model, 1.0, x, *tangent, 1), InvertedElementError);
+}
+
+TEST(StaticChord, AnImplicitEulerTangentIsRefused) {
+  const MechanicalModel model = chordCylinder("neohookean");
+  const auto tangent = FrozenTangent::build(model, model.restState(), 0.01);
+  StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+  Eigen::VectorXd x = model.restPositions();
+  EXPECT_THROW(chord.chordSolve(model, 1.0, x, *tangent, 1), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace bcassim
