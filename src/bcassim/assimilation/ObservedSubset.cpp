@@ -36,19 +36,26 @@ ObservedSubset::ObservedSubset(const Observation& y, Eigen::Index observationSiz
     rows_.push_back(i);
   }
   const Eigen::Index n = size();
+  full_ = full;
   y_.resize(n);
-  R_.setZero(n, n);
-  for (Eigen::Index a = 0; a < n; ++a) {
-    y_[a] = y.values[rows_[a]];
-    if (full)
-      for (Eigen::Index b = 0; b < n; ++b) R_(a, b) = y.covariance(rows_[a], rows_[b]);
-    else
-      R_(a, a) = y.variance[rows_[a]];
+  for (Eigen::Index a = 0; a < n; ++a) y_[a] = y.values[rows_[a]];
+  if (!full) {
+    stddev_.resize(n);
+    for (Eigen::Index a = 0; a < n; ++a) stddev_[a] = std::sqrt(y.variance[rows_[a]]);
+    return;
   }
+  R_.resize(n, n);
+  for (Eigen::Index a = 0; a < n; ++a)
+    for (Eigen::Index b = 0; b < n; ++b) R_(a, b) = y.covariance(rows_[a], rows_[b]);
   if (n == 0) return;
   llt_.compute(R_);
   if (llt_.info() != Eigen::Success || !R_.allFinite())
     throw InputError("observation noise covariance is not positive definite on present entries");
+}
+
+Eigen::MatrixXd ObservedSubset::covariance() const {
+  if (full_) return R_;
+  return stddev_.array().square().matrix().asDiagonal();
 }
 
 Eigen::MatrixXd ObservedSubset::selectRows(const Eigen::MatrixXd& Z) const {
@@ -58,6 +65,7 @@ Eigen::MatrixXd ObservedSubset::selectRows(const Eigen::MatrixXd& Z) const {
 }
 
 Eigen::MatrixXd ObservedSubset::whiten(const Eigen::MatrixXd& M) const {
+  if (!full_) return (M.array().colwise() / stddev_.array()).matrix();  // as L's solve divides
   return llt_.matrixL().solve(M);
 }
 

@@ -1,5 +1,7 @@
 // The present entries of one observation frame, validated, with a Cholesky factor of their noise
-// covariance so that filters work with whitened residuals R^{-1/2}(y - z) (eq. 3.11, 3.17).
+// covariance so that filters work with whitened residuals R^{-1/2}(y - z) (eq. 3.11, 3.17). A
+// diagonal noise (the usual case: independent entries) is kept as its standard deviations: no
+// dense R, no factorisation (a 500-point cloud's would cost more than the rest of the analysis).
 #pragma once
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -18,7 +20,8 @@ class ObservedSubset {
   bool empty() const { return rows_.empty(); }
   Eigen::Index size() const { return static_cast<Eigen::Index>(rows_.size()); }
   const Eigen::VectorXd& values() const { return y_; }
-  const Eigen::MatrixXd& covariance() const { return R_; }
+  // R of the present entries (dense; made on request when the noise is diagonal).
+  Eigen::MatrixXd covariance() const;
 
   // Present rows of a predicted observation vector or of a matrix of them (one per column).
   Eigen::MatrixXd selectRows(const Eigen::MatrixXd& Z) const;
@@ -28,7 +31,9 @@ class ObservedSubset {
  private:
   std::vector<Eigen::Index> rows_;
   Eigen::VectorXd y_;
-  Eigen::MatrixXd R_;
+  bool full_ = false;
+  Eigen::VectorXd stddev_;  // diagonal noise
+  Eigen::MatrixXd R_;       // full noise, with its factor
   Eigen::LLT<Eigen::MatrixXd> llt_;
 };
 
