@@ -107,11 +107,6 @@ TEST(PointCloudScene, ErrorsNameLineAndKey) {
               dir),
       "scene.yaml:7: assimilation.state.positions: true does not go with integrator.type static "
       "(every frame is an equilibrium of the parameters: the filter estimates parameters only)");
-  EXPECT_EQ(errorOf(b + kLoad + "assimilation:\n  tangent: mean\n  parameters:\n" + kForceX +
-                        "  observations:\n" + kCloud,
-                    dir),
-            "scene.yaml:7: assimilation.tangent: mean is an implicit-Euler step; with "
-            "integrator.type static use own");
   EXPECT_EQ(
       errorOf(b + kLoad +
                   assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", min_points: 13}\n"),

@@ -38,10 +38,9 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
                   ? std::move(shared)
                   : nullptr) {
   if (options_.statics) {
-    if (options_.layout.positions || options_.layout.velocities || options_.meanTangent)
+    if (options_.layout.positions || options_.layout.velocities)
       throw std::invalid_argument(
-          "MechanicalForecastModel: static frames estimate parameters only, with their own "
-          "tangents");
+          "MechanicalForecastModel: static frames estimate parameters only");
     if (!shared_)
       throw std::invalid_argument(
           "MechanicalForecastModel: static frames need a "
@@ -76,13 +75,23 @@ ForecastStats MechanicalForecastModel::takeStats() {
   return out;
 }
 
+// The mean's tangent: the implicit-Euler W of a step of dt, or the stiffness K of a static frame.
+std::shared_ptr<const FrozenTangent> MechanicalForecastModel::makeTangent(
+    const MechanicalModel& model, const MechanicalState& state, const CholeskyFactor* analysis,
+    double dt, bool statics) {
+  return statics ? FrozenTangent::buildStatic(model, state, analysis)
+                 : FrozenTangent::build(model, state, dt, analysis);
+}
+
 void MechanicalForecastModel::buildMeanTangent() {
   const CholeskyFactor* analysis = shared_->tangent ? &shared_->tangent->factor() : nullptr;
   shared_->stepsSinceTangent = 0;
   try {
-    adoptTangent(FrozenTangent::build(model_, reference_, integrator_.options().dt, analysis));
+    adoptTangent(
+        makeTangent(model_, reference_, analysis, integrator_.options().dt, statics_ != nullptr));
   } catch (const NumericalError&) {
-    if (!shared_->tangent) throw;  // nothing to fall back on
+    // Static frames do without (every forecast then solves its own equilibrium).
+    if (!shared_->tangent && !statics_) throw;  // nothing to fall back on
     ++stats_.tangentFailures;
   }
 }
@@ -161,13 +170,31 @@ void MechanicalForecastModel::solveStatic(MechanicalState& s, double t) {
   s.t = t;
 }
 
+// With the mean's tangent, a sigma point's frame is one chord step from the analysed mean's
+// equilibrium: the equilibrium linearised about the mean, as the filter's sigma points only
+// probe the parameters' spread about it. A step that inverts an element solves in full.
 void MechanicalForecastModel::staticForecast(const Eigen::VectorXd& params,
                                              Eigen::VectorXd& newState,
                                              Eigen::VectorXd& observable) {
   work_ = reference_;
   setParameters(params);
   ++stats_.forecasts;
-  solveStatic(work_, reference_.t + integrator_.options().dt);
+  const double t = reference_.t + integrator_.options().dt;
+  bool solved = false;
+  if (options_.meanTangent && shared_->tangent) {
+    const auto start = Clock::now();
+    try {
+      statics_->chordSolve(model_, t, work_.x, *shared_->tangent, 1, true);
+      work_.v.setZero();
+      work_.t = t;
+      solved = true;
+    } catch (const NumericalError&) {
+      work_ = reference_;
+      ++stats_.stepRetries;
+    }
+    stats_.solveSeconds += secondsSince(start);
+  }
+  if (!solved) solveStatic(work_, t);
   newState.resize(0);
   observe(work_, observable);
 }
@@ -175,18 +202,72 @@ void MechanicalForecastModel::staticForecast(const Eigen::VectorXd& params,
 // The analysed mean's equilibrium becomes the reference: solved by worker 0, copied by the
 // others (endStep runs in worker order), so that it costs one solve whatever the thread count.
 void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
+  meanParams_ = params;
   if (worker_ == 0) {
     shared_->factor = shared_->next;
-    solveStatic(reference_, reference_.t + integrator_.options().dt);
+    const double t = reference_.t + integrator_.options().dt;
+    if (!chordMean(t)) {
+      solveStatic(reference_, t);
+      // The tangent did not serve: a new one at this equilibrium, whatever the schedule.
+      if (options_.meanTangent) shared_->stepsSinceTangent = options_.tangentRefreshEvery;
+    }
     model_.externalForces(reference_.t, referenceLoad_);
     shared_->staticMean = reference_;
     shared_->staticMeanLoad = referenceLoad_;
     if (shared_->next) shared_->factor = shared_->next;
+    refreshMeanTangent();
   } else {
     reference_ = shared_->staticMean;
     referenceLoad_ = shared_->staticMeanLoad;
   }
-  meanParams_ = params;
+}
+
+// The analysed mean's equilibrium by chord iterations with the mean's tangent, from the previous
+// one. Where they stall after getting closer, the tangent is rebuilt at their last iterate (the
+// tangent had grown too far from this frame's: it is then the new mean tangent) and they go on
+// once. False (reference_ untouched) where that does not converge either, or a step inverts an
+// element: Newton solves it then.
+bool MechanicalForecastModel::chordMean(double t) {
+  if (!options_.meanTangent || !shared_->tangent) return false;
+  constexpr int kChordIterations = 10;
+  const auto start = Clock::now();
+  Eigen::VectorXd x = reference_.x;
+  bool converged = false;
+  for (int attempt = 0; attempt < 2 && !converged; ++attempt) {
+    try {
+      const StaticReport report =
+          statics_->chordSolve(model_, t, x, *shared_->tangent, kChordIterations, true);
+      stats_.linearIterations += report.iterations;
+      converged = report.converged;
+      if (converged || attempt == 1 || !(report.residualNorm < report.initialResidualNorm)) break;
+      MechanicalState at = reference_;
+      at.x = x;
+      at.t = t;
+      rebuildMeanTangentAt(at);
+    } catch (const NumericalError&) {
+      break;
+    }
+  }
+  stats_.solveSeconds += secondsSince(start);
+  if (!converged) {
+    ++stats_.stepRetries;
+    return false;
+  }
+  reference_.x = std::move(x);
+  reference_.v.setZero();
+  reference_.t = t;
+  return true;
+}
+
+// A static mean tangent at `at` now (replacing any background build underway), the model's
+// parameters as they are. Throws NumericalError if it cannot be factorised.
+void MechanicalForecastModel::rebuildMeanTangentAt(const MechanicalState& at) {
+  if (pendingTangent_.valid()) {
+    pendingTangent_.wait();
+    pendingTangent_ = {};
+  }
+  shared_->stepsSinceTangent = 0;
+  adoptTangent(FrozenTangent::buildStatic(model_, at, &shared_->tangent->factor()));
 }
 
 void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
@@ -262,11 +343,14 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
 
 void MechanicalForecastModel::refreshMeanTangent() {
   if (!options_.meanTangent || worker_ != 0) return;
+  const bool due = ++shared_->stepsSinceTangent >= options_.tangentRefreshEvery;
   // A background build launched at the previous endStep replaces the tangent now, whatever the
   // thread timing (waiting for it if need be): the schedule, and the result, are the same on
   // any machine. The tangent in use is thus 1 to N steps old (N = tangentRefreshEvery): older
-  // elastic tangents can make the step unstable (docs/liver.md).
-  if (pendingTangent_.valid()) {
+  // elastic tangents can make the step unstable (docs/liver.md). Static frames have no such
+  // instability (the mean is solved to equilibrium): their build is adopted when the next one
+  // is due, so that it has N frames to finish on the other core.
+  if (pendingTangent_.valid() && (!statics_ || due)) {
     const auto waitStart = Clock::now();
     pendingTangent_.wait();
     stats_.tangentWaitSeconds += secondsSince(waitStart);
@@ -276,7 +360,7 @@ void MechanicalForecastModel::refreshMeanTangent() {
       ++stats_.tangentFailures;
     }
   }
-  if (++shared_->stepsSinceTangent < options_.tangentRefreshEvery) return;
+  if (!due) return;
   if (!options_.tangentInBackground) {
     buildMeanTangent();
     return;
@@ -289,8 +373,8 @@ void MechanicalForecastModel::refreshMeanTangent() {
     applyParameter(parameters_[i], meanParams_(static_cast<Eigen::Index>(i)), *tangentModel_);
   tangentState_ = reference_;
   pendingTangent_ = std::async(std::launch::async, [this, analysis = shared_->tangent] {
-    return FrozenTangent::build(*tangentModel_, tangentState_, integrator_.options().dt,
-                                &analysis->factor());
+    return makeTangent(*tangentModel_, tangentState_, analysis ? &analysis->factor() : nullptr,
+                       integrator_.options().dt, statics_ != nullptr);
   });
 }
 

@@ -77,7 +77,11 @@ struct ForecastModelOptions {
   // Quasi-static frames: every forecast is the equilibrium (StaticSolver, Newton) under the
   // loads of the next frame's time with the sigma point's parameters, warm-started from the
   // analysed mean's equilibrium of the frame before; the filter then estimates parameters only
-  // (layout all false). The solver's factorisation is shared as for implicit Euler.
+  // (layout all false). The solver's factorisation is shared as for implicit Euler. With
+  // meanTangent, a forecast is instead one chord step with the stiffness of the analysed mean's
+  // equilibrium (the equilibrium linearised about the mean), and the mean's own equilibrium is
+  // reached by chord iterations with it (Newton where they do not converge); the tangent is
+  // rebuilt there every tangentRefreshEvery frames.
   std::optional<StaticOptions> statics;
   // The observable is every node's position (3 x nodes, for an observation operator that needs
   // the surface: a point cloud) instead of the markers' positions.
@@ -124,6 +128,12 @@ class MechanicalForecastModel final : public ForecastModel {
   void staticForecast(const Eigen::VectorXd& params, Eigen::VectorXd& newState,
                       Eigen::VectorXd& observable);
   void staticEndStep(const Eigen::VectorXd& params);
+  bool chordMean(double t);
+  void rebuildMeanTangentAt(const MechanicalState& at);
+  static std::shared_ptr<const FrozenTangent> makeTangent(const MechanicalModel& model,
+                                                          const MechanicalState& state,
+                                                          const CholeskyFactor* analysis, double dt,
+                                                          bool statics);
   void buildMeanTangent();
   void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);
   void refreshMeanTangent();

@@ -49,12 +49,11 @@ const AssimilationSettings& settingsOf(const Scene& scene) {
   if (!scene.assimilation)
     throw InputError(scene.sourceFile + ": the scene has no assimilation: section");
   const AssimilationSettings& s = *scene.assimilation;
-  if (scene.integrator == IntegratorKind::Static &&
-      (s.carryPositions || s.carryVelocities || s.meanTangent))
+  if (scene.integrator == IntegratorKind::Static && (s.carryPositions || s.carryVelocities))
     throw InputError(scene.sourceFile +
                      ": integrator.type static: every frame is an equilibrium of the parameters, "
                      "so the assimilation estimates parameters only (assimilation.state positions "
-                     "and velocities false, tangent own)");
+                     "and velocities false)");
   if (s.meanTangent && !s.reuseFactorization)
     throw InputError(scene.sourceFile +
                      ": assimilation.reuse_factorization: false does not go with tangent: mean "

@@ -379,8 +379,6 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
                  "equilibrium of the parameters: the filter estimates parameters only)");
   s.reuseFactorization = r.boolean("reuse_factorization", true);
   s.meanTangent = r.choice("tangent", "own", {"own", "mean"}) == "mean";
-  if (s.meanTangent && c.statics)
-    r.fail("tangent", "mean is an implicit-Euler step; with integrator.type static use own");
   if (s.meanTangent &&
       c.model.springs.springs().size() > static_cast<size_t>(FrozenTangent::kMaxCorrectedSprings))
     r.fail("tangent",
