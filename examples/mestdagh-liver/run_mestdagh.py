@@ -2,7 +2,7 @@
 """The mestdagh-liver benchmark (../shared/data/mestdagh-liver, made with FEniCS) with bcassim.
 
     examples/mestdagh-liver/run_mestdagh.py BUILD_DIR OUT_DIR [--data DIR] [--only SEQ ...]
-        [--skip-verify] [--skip-register] [--threads N]
+        [--skip-verify] [--skip-register] [--threads N] [--tangent mean|own]
 
 verify:   static solves of mesh-default under the true tool forces (`bcassim simulate`,
           verify.yaml) against positions-default.npy: relative displacement error
@@ -124,7 +124,13 @@ def verify(bcassim, data, out, seq):
     return np.array(errors)
 
 
-def register(bcassim, data, out, seq, threads):
+TANGENT_SETTINGS = {
+    "mean": "tangent: mean\n  tangent_refresh_every: 50",
+    "own": "tangent: own\n  reuse_factorization: false",
+}
+
+
+def register(bcassim, data, out, seq, threads, tangent="own"):
     """Force and interior-node errors of the estimation on mesh-remeshed, per frame."""
     work = os.path.join(out, "register", seq.replace("/", "-"))
     inputs = os.path.join(work, "inputs")
@@ -146,7 +152,7 @@ def register(bcassim, data, out, seq, threads):
     scene = os.path.join(work, "register.yaml")
     with open(scene, "w") as f:
         f.write(fill("register.yaml", data=data, sequence=seq, inputs=inputs, threads=threads,
-                     material=material_of(seq)))
+                     material=material_of(seq), tangent_settings=TANGENT_SETTINGS[tangent]))
     run_dir = os.path.join(work, "run")
     run([bcassim, "assimilate", scene, "--out", run_dir, "-q", "--no-plots"],
         os.path.join(work, "assimilate.log"))
@@ -192,6 +198,10 @@ def main():
     parser.add_argument("--skip-verify", action="store_true")
     parser.add_argument("--skip-register", action="store_true")
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--tangent", choices=sorted(TANGENT_SETTINGS), default="own",
+                        help="registration: own (Newton for every sigma point) or mean "
+                             "(sigma points linearised about the analysed mean, the mean by "
+                             "chord iterations: 25-70x faster, see docs/results.md)")
     a = parser.parse_args()
     bcassim = os.path.abspath(os.path.join(a.build, "bcassim"))
     data = os.path.abspath(a.data)
@@ -220,7 +230,7 @@ def main():
         results, failed = [], []
         for seq in a.only:
             try:
-                results.append(register(bcassim, data, out, seq, a.threads))
+                results.append(register(bcassim, data, out, seq, a.threads, a.tangent))
             except RunFailed as failure:
                 failed.append((seq, str(failure)))
                 print(f"register {seq}: failed, {failure}", flush=True)
