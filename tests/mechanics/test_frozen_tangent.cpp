@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "FemTestHelpers.h"
 #include "bcassim/Error.h"
 #include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/mechanics/ImplicitEuler.h"
@@ -22,12 +23,7 @@ MechanicalModel cylinder(double stiffnessDamping) {
   auto mesh = std::make_shared<const TetMesh>(makeCylinderMesh(0.015, 0.18, 300));
   MechanicalModel model =
       makeMechanicalModel(mesh, {makeMaterial("stvk", 8000, 0.45)}, 1000, MassKind::Lumped);
-  std::vector<int> base, tip, middle;
-  for (int i = 0; i < mesh->numNodes(); ++i) {
-    if (mesh->V(i, 2) < 1e-9) base.push_back(i);
-    if (mesh->V(i, 2) > 0.18 - 1e-9) tip.push_back(i);
-    if (std::abs(mesh->V(i, 2) - 0.09) < 0.01 && mesh->V(i, 1) > 0.012) middle.push_back(i);
-  }
+  const auto [base, tip, middle] = testing::cylinderNodes(*mesh, 0.015, 0.18);
   model.dirichlet = DirichletConditions(
       {{base}, {tip, Vec3(0.01, 0, 0), {TimeProfile::Kind::Sine, 1.0}}}, *model.pattern);
   model.loads.push_back({middle, Vec3(0, 0.05 / middle.size(), 0), {TimeProfile::Kind::Sine, 0.7}});
