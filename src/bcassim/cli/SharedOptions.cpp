@@ -40,32 +40,31 @@ CLI::Option* addThreadsOption(CLI::App& app, int& threads, const std::string& wh
   return o;
 }
 
-CLI::Option* checkNonNegative(CLI::Option* option) {
-  const CLI::Validator nonNegative(
-      [](const std::string& text) -> std::string {
+namespace {
+
+// A number that `accepts` takes; `expected` completes the refusal "expected a number ...".
+CLI::Validator numberValidator(bool (*accepts)(double), const char* expected, const char* name) {
+  return CLI::Validator(
+      [accepts, expected](const std::string& text) -> std::string {
         double v = 0.0;
         const char* end = text.data() + text.size();
         const auto [last, error] = std::from_chars(text.data(), end, v);
-        if (error != std::errc() || last != end || !(v >= 0.0))
-          return fmt::format("expected a number >= 0, got '{}'", text);
+        if (error != std::errc() || last != end || !accepts(v))
+          return fmt::format("expected a number {}, got '{}'", expected, text);
         return "";
       },
-      "NONNEGATIVE");
-  return option->check(nonNegative);
+      name);
+}
+
+}  // namespace
+
+CLI::Option* checkNonNegative(CLI::Option* option) {
+  return option->check(numberValidator([](double v) { return v >= 0.0; }, ">= 0", "NONNEGATIVE"));
 }
 
 CLI::Option* checkPositive(CLI::Option* option) {
-  const CLI::Validator positive(
-      [](const std::string& text) -> std::string {
-        double v = 0.0;
-        const char* end = text.data() + text.size();
-        const auto [last, error] = std::from_chars(text.data(), end, v);
-        if (error != std::errc() || last != end || !(v > 0.0) || !std::isfinite(v))
-          return fmt::format("expected a number > 0, got '{}'", text);
-        return "";
-      },
-      "POSITIVE");
-  return option->check(positive);
+  return option->check(
+      numberValidator([](double v) { return v > 0.0 && std::isfinite(v); }, "> 0", "POSITIVE"));
 }
 
 CLI::Option* addNoPlotsFlag(CLI::App& app, bool& noPlots) {

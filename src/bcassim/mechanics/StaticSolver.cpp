@@ -191,8 +191,8 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
   const auto& fixed = bc.constrainedDofs();
   StaticReport report;
   model.externalForces(t, chordFext_);
-  const Eigen::VectorXd target =
-      bc.empty() ? Eigen::VectorXd() : bc.targetPositions(model.restPositions(), t);
+  const Eigen::VectorXd rest = model.restPositions();
+  const Eigen::VectorXd target = bc.empty() ? Eigen::VectorXd() : bc.targetPositions(rest, t);
   // The residual f_ext - f_int at y (constrained entries zero) into chordRhs_, the prescribed
   // motion still to make into chordKnown_; its norm.
   const auto residualAt = [&](const Eigen::VectorXd& y) {
@@ -209,7 +209,6 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
     for (size_t k = 0; k < fixed.size(); ++k) y(fixed[k]) = target(static_cast<Eigen::Index>(k));
   };
   // The total potential energy at y (J), whose gradient is -(f_ext - f_int).
-  const Eigen::VectorXd rest = model.restPositions();
   const auto potentialAt = [&](const Eigen::VectorXd& y) {
     return model.storedEnergy(t, y) - chordFext_.dot(y - rest);
   };
