@@ -165,6 +165,8 @@ void bindAssimilation(py::module_& m) {
       .def_readonly("mean", &FilterStepReport::mean)
       .def_readonly("stddev", &FilterStepReport::stddev)
       .def_readonly("innovation_norm", &FilterStepReport::innovationNorm)
+      .def_readonly("innovation_squared_norm", &FilterStepReport::innovationSquaredNorm)
+      .def_readonly("predicted_observation_trace", &FilterStepReport::predictedObservationTrace)
       .def_readonly("observed", &FilterStepReport::observed)
       .def_readonly("covariance_repairs", &FilterStepReport::covarianceRepairs)
       .def_readonly("seconds", &FilterStepReport::seconds);

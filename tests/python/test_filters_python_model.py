@@ -64,12 +64,17 @@ def test_linear_gaussian_model_gives_the_exact_kalman_posterior(make):
     f = make(None)
     m = np.array([0.8, -0.3, 1.0])
     P = np.diag([0.1, 0.2, 0.7]) ** 2
+    F = np.block([[A, B[:, None]], [np.zeros((1, 2)), np.ones((1, 1))]])
     for y in observations(6):
+        # what an adaptive R needs (issue 15): ||y - H x_f||^2 and tr(H P_f H^T), H = [I 0]
+        innovation, spread = y - (F @ m)[:2], np.trace((F @ P @ F.T)[:2, :2])
         m, P = kalman_step(m, P, y)
         report = f.step(Observation(y, variance=np.diag(R)))
         np.testing.assert_allclose(f.mean, m, rtol=1e-10, atol=1e-12)
         np.testing.assert_allclose(f.covariance(), P, rtol=1e-9, atol=1e-14)
         assert report.observed == 2
+        assert report.innovation_squared_norm == pytest.approx(innovation @ innovation, rel=1e-9)
+        assert report.predicted_observation_trace == pytest.approx(spread, rel=1e-9)
     mean, sd = f.estimate()
     np.testing.assert_allclose(mean, m, rtol=1e-10)
     np.testing.assert_allclose(sd, np.sqrt(np.diag(P)), rtol=1e-9)

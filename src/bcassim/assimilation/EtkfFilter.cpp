@@ -99,7 +99,8 @@ FilterStepReport EtkfFilter::step(const Observation& y) {
     // sqrt((N-1) A) = I + V diag(sqrt((N-1)/(N-1+s^2)) - 1) V^T: O(N r^2), never an N x N solve.
     const Eigen::MatrixXd Zs = obs.selectRows(Z);
     const Eigen::VectorXd zMean = Zs.rowwise().mean();
-    const Eigen::MatrixXd Zt = obs.whiten(Zs.colwise() - zMean);
+    const Eigen::MatrixXd dZ = Zs.colwise() - zMean;
+    const Eigen::MatrixXd Zt = obs.whiten(dZ);
     const Eigen::VectorXd innovation = obs.values() - zMean;
     const Eigen::BDCSVD<Eigen::MatrixXd> svd(Zt, Eigen::ComputeThinV);
     const Eigen::MatrixXd& V = svd.matrixV();
@@ -113,7 +114,9 @@ FilterStepReport EtkfFilter::step(const Observation& y) {
     const Eigen::MatrixXd XpV = Xp * V;
     members_ = Xp + XpV * shrink.asDiagonal() * V.transpose();
     members_.colwise() += x_;
-    report.innovationNorm = innovation.norm();
+    report.innovationSquaredNorm = innovation.squaredNorm();
+    report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
+    report.predictedObservationTrace = dZ.squaredNorm() / nm1;  // tr(Z' Z'^T) / (N - 1)
     report.observed = obs.size();
   }
   report.seconds.correction = secondsSince(correctionStart);

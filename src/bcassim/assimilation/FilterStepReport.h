@@ -18,6 +18,11 @@ struct FilterStepReport {
   Eigen::VectorXd stddev;
   // ||y - mean predicted observation|| over the present entries (0 when none).
   double innovationNorm = 0.0;
+  // The two sides of E[nu^T nu] = tr(H P H^T) + tr(R) over the present entries, for an adaptive
+  // R (InnovationNoiseEstimator): ||y - mean predicted observation||^2, and the trace of the
+  // predicted observations' covariance from the sigma points / members, without R. 0 when none.
+  double innovationSquaredNorm = 0.0;
+  double predictedObservationTrace = 0.0;
   // Observation entries used this step; 0 means the step was a prediction only.
   Eigen::Index observed = 0;
   // Covariance factorisations repaired with jitter this step, and the largest jitter.

@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <Eigen/QR>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -91,6 +94,15 @@ void RoukfFilter::addParameterNoise(RepairLog& repairs) {
   U_ = Cinv.transpose() * Cinv;
 }
 
+// tr(H P H^T) = tr(HL U^-1 HL^T) with the predicted U: the identity unless parameter noise was
+// added (then ||C^-1 HL^T||_F^2 with U = C C^T).
+double RoukfFilter::predictedTrace(const Eigen::MatrixXd& HL) const {
+  if (processVariance_.size() == 0) return HL.squaredNorm();
+  const Eigen::LLT<Eigen::MatrixXd> llt(U_);
+  if (llt.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
+  return llt.matrixL().solve(HL.transpose()).squaredNorm();
+}
+
 FilterStepReport RoukfFilter::step(const Observation& y) {
   const auto start = Clock::now();
   FilterStepReport report;
@@ -122,15 +134,18 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
   if (!obs.empty()) {
     const Eigen::MatrixXd Zs = obs.selectRows(Z);
     const Eigen::VectorXd zMean = Zs * w;
-    const Eigen::MatrixXd W = obs.whiten((Zs.colwise() - zMean) * DIt);
+    const Eigen::MatrixXd HL = (Zs.colwise() - zMean) * DIt;  // H L
+    const Eigen::MatrixXd W = obs.whiten(HL);
     const Eigen::VectorXd innovation = obs.values() - zMean;
+    report.predictedObservationTrace = predictedTrace(HL);
     U_.noalias() += W.transpose() * W;
     const Eigen::MatrixXd C = choleskyWithRepair(U_, repairs);
     const auto Cl = C.triangularView<Eigen::Lower>();
     const Eigen::VectorXd reducedGain =
         Cl.transpose().solve(Cl.solve(W.transpose() * obs.whiten(innovation)));
     x_ += L_ * reducedGain;
-    report.innovationNorm = innovation.norm();
+    report.innovationSquaredNorm = innovation.squaredNorm();
+    report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
     report.observed = obs.size();
   }
   report.seconds.correction = secondsSince(correctionStart);

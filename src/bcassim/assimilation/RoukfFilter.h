@@ -55,6 +55,7 @@ class RoukfFilter final : public Filter {
 
  private:
   void addParameterNoise(RepairLog& repairs);
+  double predictedTrace(const Eigen::MatrixXd& HL) const;
 
   ForecastEnsemble ensemble_;
   SigmaPointSet sigma_;

@@ -89,7 +89,9 @@ FilterStepReport UkfFilter::step(const Observation& y) {
     const Eigen::MatrixXd G = Cl.solve(Pxz.transpose());
     x_ += G.transpose() * Cl.solve(innovation);
     P_ -= G.transpose() * G;
-    report.innovationNorm = innovation.norm();
+    report.innovationSquaredNorm = innovation.squaredNorm();
+    report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
+    report.predictedObservationTrace = dZ.colwise().squaredNorm().transpose().dot(w);  // tr(Pz - R)
     report.observed = obs.size();
   }
   report.seconds.correction = secondsSince(correctionStart);
