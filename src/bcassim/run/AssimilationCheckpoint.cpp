@@ -50,6 +50,8 @@ void writeAssimilationCheckpoint(const std::string& path, const std::string& key
   out.number(static_cast<double>(c.motionEntries));
   out.matrix(c.freeRunPath);
   out.matrix(c.freeRunLast);
+  out.matrix(c.noiseWindow);
+  out.number(c.noiseVariance);
   out.commit();
 }
 
@@ -77,6 +79,8 @@ AssimilationCheckpoint readAssimilationCheckpoint(const std::string& path, const
   c.motionEntries = static_cast<long>(in.number());
   c.freeRunPath = in.matrix();
   c.freeRunLast = in.matrix();
+  c.noiseWindow = in.matrix();
+  c.noiseVariance = in.number();
   return c;
 }
 

@@ -28,6 +28,10 @@ struct AssimilationCheckpoint {
   std::vector<double> stepMs;  // wall time of every step so far
   int observedSteps = 0, tangentFailures = 0;
   Eigen::MatrixXd parameters;  // last reported mean and stddev of each parameter (P x 2)
+  // InnovationNoiseEstimator (observations.adaptive_noise): its window (k x 3) and estimate, m^2;
+  // 0 x 0 and 0 without adaptive noise.
+  Eigen::MatrixXd noiseWindow;
+  double noiseVariance = 0;
 };
 
 // `key` names the scene the checkpoint belongs to; a checkpoint with another key is refused.

@@ -19,6 +19,7 @@
 #include "bcassim/Stopwatch.h"
 #include "bcassim/assimilation/EtkfFilter.h"
 #include "bcassim/assimilation/ForecastEnsemble.h"
+#include "bcassim/assimilation/InnovationNoiseEstimator.h"
 #include "bcassim/assimilation/RoukfFilter.h"
 #include "bcassim/assimilation/ThreadPoolExecutor.h"
 #include "bcassim/assimilation/UkfFilter.h"
@@ -137,9 +138,9 @@ const Eigen::MatrixX3d* trackedFrameAt(const ObservationSettings& o, int step) {
 }
 
 // The markers `observed` at `step` (null: none) as the filter sees them: missing markers masked,
-// seeded noise added.
+// seeded noise added, noise `sigma` assumed (m).
 Observation observationAt(const ObservationSettings& o, int step, const Eigen::MatrixX3d* observed,
-                          std::mt19937_64& rng) {
+                          double sigma, std::mt19937_64& rng) {
   if (step > o.untilStep || observed == nullptr) return Observation::none();
   const Eigen::MatrixX3d& frame = *observed;
   Observation y;
@@ -157,13 +158,14 @@ Observation observationAt(const ObservationSettings& o, int step, const Eigen::M
       any = any || y.present[static_cast<size_t>(j)];
     }
   if (!any) return Observation::none();
-  y.variance = Eigen::VectorXd::Constant(y.values.size(), o.sigma * o.sigma);
+  y.variance = Eigen::VectorXd::Constant(y.values.size(), sigma * sigma);
   return y;
 }
 
-// The cloud of `step` as the filter sees it: x, y, z of every point with seeded noise added.
+// The cloud of `step` as the filter sees it: x, y, z of every point with seeded noise added, noise
+// `sigma` assumed (m).
 Observation cloudObservationAt(const ObservationSettings& o, const std::vector<bool>& usable,
-                               int step, std::mt19937_64& rng) {
+                               int step, double sigma, std::mt19937_64& rng) {
   if (step > o.untilStep || !usable[static_cast<size_t>(step)]) return Observation::none();
   const Eigen::MatrixX3d& frame = o.pointCloud->frames[static_cast<size_t>(step)];
   Observation y;
@@ -171,7 +173,7 @@ Observation cloudObservationAt(const ObservationSettings& o, const std::vector<b
   std::normal_distribution<double> noise(0.0, 1.0);
   for (Eigen::Index i = 0; i < frame.rows(); ++i)
     for (int c = 0; c < 3; ++c) y.values(3 * i + c) = frame(i, c) + o.noiseStddev * noise(rng);
-  y.variance = Eigen::VectorXd::Constant(y.values.size(), o.sigma * o.sigma);
+  y.variance = Eigen::VectorXd::Constant(y.values.size(), sigma * sigma);
   return y;
 }
 
@@ -336,8 +338,9 @@ std::string checkpointKey(const Scene& scene, const StochasticState& layout) {
 struct AssimilationFiles {
   fs::path dir;
   std::unique_ptr<EstimatesWriter> estimates;
-  fs::path filterPath, timingPath;
+  fs::path filterPath, timingPath, noisePath;
   std::ofstream filter, timing;
+  std::ofstream noise;                        // noise.csv, with observations.adaptive_noise
   std::unique_ptr<ValidationLog> validation;  // with assimilation.validation tracks
   std::unique_ptr<HiddenPointLog> hidden;     // with hidden_points
   std::string checkpointPath, checkpointKey;
@@ -376,6 +379,13 @@ AssimilationFiles openFiles(const Scene& scene, const AssimilationSetup& setup, 
                   "solve_cpu_ms,tangent_cpu_ms,linear_iterations,factorizations,tangent_failures,"
                   "tangent_wait_ms,step_retries",
                   cutAt);
+  if (s.observations.adaptiveNoise) {
+    files.noisePath = dir / "noise.csv";
+    files.noise = openStepCsv(files.noisePath.string(),
+                              "step,time_s,observed_entries,sigma_m,estimated_sigma_m,"
+                              "innovation_squared_norm_m2,predicted_observation_trace_m2",
+                              cutAt);
+  }
   if (s.validationTruth) files.validation = std::make_unique<ValidationLog>(scene, dir, cutAt);
   if (!scene.hidden.points.empty()) files.hidden = std::make_unique<HiddenPointLog>(dir, cutAt);
   // A resumed run keeps the notices written so far (those of the set-up among them).
@@ -394,6 +404,9 @@ struct FilterLoopState {
   std::mt19937_64 rng;  // observation noise
   InnovationModelError modelError;
   FreeRunModelError freeRun;
+  // With observations.adaptive_noise: the sigma the next step assumes (else the scene's sigma).
+  std::optional<InnovationNoiseEstimator> noise;
+  double sigma(const ObservationSettings& o) const { return noise ? noise->sigma() : o.sigma; }
   // With validation tracks: the forward run with the initial parameters, for comparison.
   std::unique_ptr<ParameterForwardRun> initialRun;
   std::vector<double> stepMs;  // wall time of each filter step
@@ -404,6 +417,8 @@ FilterLoopState newLoopState(const Scene& scene, const fs::path& dir) {
   const AssimilationSettings& s = *scene.assimilation;
   FilterLoopState loop;
   loop.rng.seed(s.seed);
+  if (const auto& a = s.observations.adaptiveNoise)
+    loop.noise.emplace(s.observations.sigma, a->window, a->floor);
   if (s.validationTruth)
     loop.initialRun = std::make_unique<ParameterForwardRun>(scene, s.parameters, initialValues(s));
   loop.result.outDir = dir.string();
@@ -455,6 +470,13 @@ FilterLoopState resumeFromCheckpoint(const Scene& scene, AssimilationSetup& setu
   if (files.validation) files.validation->restore(c.errorSummaries);
   std::istringstream(c.rng) >> loop.rng;
   loop.modelError.restore(c.innovationSumSquares, c.innovationEntries);
+  if (loop.noise && c.noiseVariance > 0) {
+    try {
+      loop.noise->restore(c.noiseWindow, c.noiseVariance);
+    } catch (const InputError&) {
+      throw InputError(files.checkpointPath + ": damaged (adaptive noise window)");
+    }
+  }
   if (c.freeRunLast.size() > 0 && c.freeRunLast.cols() != 3)
     throw InputError(files.checkpointPath + ": damaged (hidden points' free-run positions)");
   loop.freeRun.restore(
@@ -490,6 +512,10 @@ void writeCheckpoint(int step, const AssimilationSetup& setup, const Assimilatio
   c.rng = generator.str();
   c.innovationSumSquares = loop.modelError.sumSquares();
   c.innovationEntries = loop.modelError.entries();
+  if (loop.noise) {
+    c.noiseWindow = loop.noise->saved();
+    c.noiseVariance = loop.noise->variance();
+  }
   c.motionSumSquares = loop.freeRun.sumSquares();
   c.motionEntries = loop.freeRun.entries();
   // Without hidden points both are empty: kept 0 x 0, the archive's empty matrix.
@@ -517,9 +543,10 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
                             AssimilationFiles& files, FilterLoopState& loop) {
   const AssimilationSettings& s = *scene.assimilation;
   const double time = step * scene.dt();
-  const Observation y = setup.cloud
-                            ? cloudObservationAt(s.observations, setup.cloudUsable, step, loop.rng)
-                            : observationAt(s.observations, step, markers, loop.rng);
+  const double sigma = loop.sigma(s.observations);
+  const Observation y =
+      setup.cloud ? cloudObservationAt(s.observations, setup.cloudUsable, step, sigma, loop.rng)
+                  : observationAt(s.observations, step, markers, sigma, loop.rng);
   FilterStepReport report;
   try {
     report = setup.filter->step(y);
@@ -566,11 +593,20 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
   files.filter << '\n';
   flushOrThrow(files.filter, files.filterPath);
 
+  if (loop.noise) {
+    loop.noise->add(report.innovationSquaredNorm, report.observed,
+                    report.predictedObservationTrace);
+    files.noise << fmt::format("{},{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g}\n", step, time,
+                               report.observed, sigma, loop.noise->sigma(),
+                               report.innovationSquaredNorm, report.predictedObservationTrace);
+    flushOrThrow(files.noise, files.noisePath);
+  }
+
   // The hidden points first, and published at once: a live display waits for nothing else.
   loop.modelError.add(report.innovationNorm, static_cast<long>(report.observed));
   if (files.hidden || (stream && stream->publish)) {
     const MechanicalForecastModel& meanModel = *setup.models[0];
-    const double q = loop.modelError.variance(s.observations.sigma);
+    const double q = loop.modelError.variance(loop.sigma(s.observations));
     Eigen::VectorXd variance =
         Eigen::VectorXd::Constant(static_cast<Eigen::Index>(scene.hidden.points.size()), q);
     if (files.hidden) {

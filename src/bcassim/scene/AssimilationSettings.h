@@ -60,6 +60,13 @@ struct PointCloudSettings {
   int minPoints = 10;           // a frame with fewer usable points is not used (prediction only)
 };
 
+// observations.adaptive_noise: sigma estimated from the innovations (InnovationNoiseEstimator),
+// starting from observations.sigma.
+struct AdaptiveNoiseSettings {
+  int window = 30;      // observed steps the estimate is made over
+  double floor = 1e-6;  // m, the smallest sigma (<= observations.sigma)
+};
+
 struct ObservationSettings {
   TrackFrames tracks;  // observed marker positions, m (empty with a point cloud)
   std::optional<PointCloudSettings> pointCloud;  // instead of marker tracks
@@ -72,6 +79,8 @@ struct ObservationSettings {
   bool modelErrorGrows = true;
   // tracks: stream — the markers come live from bcassim serve (OpenIGTLink); `tracks` is empty.
   bool streamed = false;
+  // adaptive_noise: sigma re-estimated every step from the innovations; none: sigma is fixed.
+  std::optional<AdaptiveNoiseSettings> adaptiveNoise;
 };
 
 struct AssimilationSettings {

@@ -417,8 +417,8 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
     failAt(src, node, r.pathOf("observations"),
            "missing (tracks of the observed markers, or a point_cloud)");
   MapReader obs(src, r.node("observations"), r.pathOf("observations"),
-                {"tracks", "point_cloud", "noise_stddev", "sigma", "until_step", "time_offset",
-                 "model_error"});
+                {"tracks", "point_cloud", "noise_stddev", "sigma", "adaptive_noise", "until_step",
+                 "time_offset", "model_error"});
   if (obs.has("tracks") == obs.has("point_cloud"))
     failAt(src, obs.self(), obs.pathOf("tracks"),
            obs.has("tracks") ? "expected either tracks or point_cloud, not both"
@@ -426,6 +426,19 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.observations.timeOffset = obs.number("time_offset", 0.0, "s");
   s.observations.noiseStddev = obs.number("noise_stddev", 0.0, "m", Range::NonNegative);
   s.observations.sigma = obs.number("sigma", 1e-4, "m", Range::Positive);
+  if (obs.has("adaptive_noise")) {
+    const MapReader a(src, obs.node("adaptive_noise"), obs.pathOf("adaptive_noise"),
+                      {"window", "floor"});
+    AdaptiveNoiseSettings n;
+    n.window = a.integer("window", n.window, Range::AtLeastOne);
+    n.floor = a.number("floor", n.floor, "m", Range::Positive);
+    if (n.floor > s.observations.sigma)
+      a.fail("floor", fmt::format("must be <= observations.sigma ({:g} metres), got {}",
+                                  s.observations.sigma,
+                                  a.has("floor") ? a.node("floor").Scalar()
+                                                 : fmt::format("{:g} (the default)", n.floor)));
+    s.observations.adaptiveNoise = n;
+  }
   s.observations.untilStep = obs.integer("until_step", c.steps);
   s.observations.modelErrorGrows =
       obs.choice("model_error", "grows", {"grows", "constant"}) == "grows";
