@@ -37,6 +37,22 @@ void printScenario(const LiverScenario& s) {
       "loads: right lobe {:.3g} N down, left lobe {:.3g} N up/down; baseline: {} nodes fixed "
       "along the ligament; scenes in {}\n",
       s.rightForce, s.leftForce, s.fixedNodes, s.dir);
+  fmt::print("estimation prior of each spring group: k_gamma {:.4g} ± {:.3g} N/m per spring\n",
+             s.priorStiffness, s.priorStddev);
+  if (s.atlas.used) {
+    fmt::print(
+        "atlas mode: estimation springs on the mean curve of {} (template turned {:.1f} deg; band "
+        "σ {:.1f} mm mean; transfer {:.0f} s{})\n",
+        s.atlas.source, s.atlas.rotationDegrees, 1e3 * s.atlas.meanSigma, s.atlas.transferSeconds,
+        s.atlas.buildSeconds > 0 ? fmt::format(", build {:.0f} s", s.atlas.buildSeconds) : "");
+    if (s.annotated)
+      fmt::print("  its distance from the expert's curve: mean {:.1f} mm, max {:.1f} mm\n",
+                 1e3 * s.atlas.expertDistanceMean, 1e3 * s.atlas.expertDistanceMax);
+    else
+      fmt::print(
+          "  no annotation: the truth's ligament follows the atlas curve too (distance "
+          "undefined)\n");
+  }
   std::fflush(stdout);
 }
 
@@ -85,8 +101,8 @@ struct LiverArguments {
   void declare(CLI::App& app) {
     LiverScenarioOptions& o = options;
     app.add_option("surface", surface,
-                   "Liver surface with a .eseg beside it, a name in $BCASSIM_DATA/livers "
-                   "(e.g. LiTS-3), or 'phantom' (built in)")
+                   "Liver surface with a .eseg beside it (or none, with --atlas), a name in "
+                   "$BCASSIM_DATA/livers (e.g. LiTS-3), or 'phantom' (built in)")
         ->required();
     addOutOption(app, outDir);
     addScaleOption(app, o.scale);
@@ -101,6 +117,15 @@ struct LiverArguments {
         ->capture_default_str();
     app.add_option("--ligament-stiffness", o.ligamentStiffness,
                    "Truth ligament stiffness per metre of curve (N/m per m)")
+        ->capture_default_str();
+    app.add_option("--spring-priors", o.springPriors,
+                   "Priors of the estimated springs from a measured tissue: springs.yaml of "
+                   "`bcassim ligament springs` (per metre of width, N/m; default: 0.4 times the "
+                   "truth's mean)");
+    checkNonNegative(
+        app.add_option("--prior-spread", o.priorSpread,
+                       "How far a patient's ligament may be from the prior, relative to its "
+                       "mean: the prior's standard deviation (combined with the calibration's)"))
         ->capture_default_str();
     checkNonNegative(
         app.add_option("--stiffness-walk", o.stiffnessRandomWalk,
@@ -117,6 +142,18 @@ struct LiverArguments {
                    "Static displacement of each lobe without ligament that sizes the loads (m)")
         ->capture_default_str();
     addThreadsOption(app, o.threads, threadsWhat, true);
+  }
+
+  // Atlas mode, for prepare and run (tracked has its own atlas options).
+  void declareAtlas(CLI::App& app) {
+    app.add_option("--atlas", options.atlas,
+                   "Atlas mode: the estimation's springs on the falciform curve of this ligament "
+                   "atlas (a folder of `bcassim atlas build`) transferred onto the liver, not on "
+                   "its annotation; the liver needs no .eseg. With --atlas-livers: where the "
+                   "atlas built without this liver is kept (default OUT/atlas)");
+    app.add_option("--atlas-livers", options.atlasLivers,
+                   "Atlas mode: build the atlas from these annotated livers (a folder of .obj + "
+                   ".eseg), this liver left out (minutes; kept in --atlas)");
   }
 
   // The options with the surface resolved to a file (or the phantom).
@@ -172,13 +209,19 @@ class LiverPrepareCommand : public Command {
       : Command({"liver", "prepare"},
                 "Mesh an annotated liver and write the truth, estimation and baseline scenes") {}
 
-  void declare(CLI::App& app) override { args_.declare(app); }
+  void declare(CLI::App& app) override {
+    args_.declare(app);
+    args_.declareAtlas(app);
+  }
 
   int run() override {
     const LiverScenarioOptions o = args_.resolved();
     fmt::print("liver {}\n", o.surface);
     std::fflush(stdout);
-    printScenario(prepareLiverScenario(o, args_.outDir));
+    printScenario(prepareLiverScenario(o, args_.outDir, [](const std::string& line) {
+      fmt::print("  {}\n", line);
+      std::fflush(stdout);
+    }));
     fmt::print(
         "next: cd {0} && bcassim simulate truth.yaml --out truth && bcassim assimilate "
         "estimate.yaml --out estimate && bcassim simulate baseline.yaml --out baseline\n",
@@ -199,6 +242,7 @@ class LiverRunCommand : public Command {
 
   void declare(CLI::App& app) override {
     args_.declare(app);
+    args_.declareAtlas(app);
     addQuietFlag(app, quiet_);
     addNoPlotsFlag(app, noPlots_);
     app.add_flag("--no-picture", noPicture_, "Do not render the liver picture");

@@ -64,7 +64,7 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
   };
   LiverReport report;
   stage("prepare");
-  report.scenario = prepareLiverScenario(options, outDir);
+  report.scenario = prepareLiverScenario(options, outDir, cb.log);
 
   const LiverScenario& scenario = report.scenario;
 
@@ -149,6 +149,16 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
       out << fmt::format(
           "# tumours: final 95 % radius {:.6g} mm (with model error), coverage {:.6g}\n",
           report.finalTumourTotalRadius95Mm, report.tumourCoverage);
+    const LiverAtlasSprings& atlas = report.scenario.atlas;
+    if (atlas.used)
+      out << fmt::format(
+          "# atlas mode: springs on the mean curve of {}; distance from the expert's curve mean "
+          "{} mm, max {} mm\n",
+          atlas.source,
+          atlas.expertDistanceMean >= 0 ? fmt::format("{:.6g}", 1e3 * atlas.expertDistanceMean)
+                                        : "undefined",
+          atlas.expertDistanceMax >= 0 ? fmt::format("{:.6g}", 1e3 * atlas.expertDistanceMax)
+                                       : "undefined");
   }
   return report;
 }

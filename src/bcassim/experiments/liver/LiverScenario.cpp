@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "bcassim/Error.h"
+#include "bcassim/experiments/liver/AtlasCurve.h"
 #include "bcassim/experiments/liver/LiverPhantom.h"
 #include "bcassim/experiments/liver/LiverSceneFiles.h"
 #include "bcassim/experiments/liver/LiverScenes.h"
@@ -25,6 +26,7 @@
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 #include "bcassim/mesh/BoundarySurface.h"
 #include "bcassim/mesh/ClosestPoint.h"
+#include "bcassim/scene/LigamentSpringPriors.h"
 #include "bcassim/scene/NodePoints.h"
 #include "bcassim/scene/SceneBuilders.h"
 
@@ -159,12 +161,14 @@ double staticDisplacement(const LiverSceneSpec& spec, const Vec3& center, double
 }  // namespace
 
 LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::string& outDir,
-                                     LiverScenario& result) {
+                                     LiverScenario& result,
+                                     const std::function<void(const std::string&)>& log) {
   if (o.groups < 1 || o.markers < 3 || o.validationPoints < 1 || o.tumours < 0 || o.steps < 1 ||
-      o.observedSteps < 0 || o.dt <= 0 || o.scale <= 0 || !(o.stiffnessRandomWalk >= 0))
+      o.observedSteps < 0 || o.dt <= 0 || o.scale <= 0 || !(o.stiffnessRandomWalk >= 0) ||
+      !(o.priorSpread >= 0) || (o.springPriors.empty() && !(o.priorSpread > 0)))
     throw InputError(
         "liver: bad options (groups >= 1, markers >= 3, steps >= 1, dt > 0, stiffness random walk "
-        ">= 0)");
+        ">= 0, prior spread > 0, or >= 0 with spring priors)");
   const fs::path dir(outDir);
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -174,6 +178,8 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   LabelledEdges edges;
   std::string name;
   double scale = o.scale;
+  const bool atlasMode = !o.atlas.empty() || !o.atlasLivers.empty();
+  bool annotated = true;
   if (o.surface == kLiverPhantomName) {
     LiverPhantom phantom = makeLiverPhantom();
     surface = std::move(phantom.surface);
@@ -184,12 +190,55 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
     surface = readSurface(o.surface);
     const std::string esegPath =
         o.eseg.empty() ? fs::path(o.surface).replace_extension(".eseg").string() : o.eseg;
-    if (!fs::exists(esegPath))
-      throw InputError(esegPath + ": missing edge labels (.eseg with label 2 = falciform)");
-    edges = readEseg(esegPath, surface);
     name = fs::path(o.surface).filename().string();
+    if (fs::exists(esegPath))
+      edges = readEseg(esegPath, surface);
+    else if (atlasMode)
+      annotated = false;
+    else
+      throw InputError(esegPath +
+                       ": missing edge labels (.eseg with label 2 = falciform); a liver without "
+                       "them needs an atlas (--atlas)");
   }
-  const Eigen::MatrixX3d curve = scale * extractAttachmentCurve(surface, edges, 2, name).points;
+
+  // The springs' curve: the atlas' mean curve transferred onto this liver, or the annotation.
+  Eigen::MatrixX3d springCurve;
+  if (atlasMode) {
+    TriMesh patient = surface;
+    patient.V *= scale;
+    AtlasCurve transferred;
+    if (o.atlasLivers.empty()) {
+      transferred = transferredAtlasCurve(patient, o.atlas, o.atlasTransferIterations);
+      result.atlas.source = o.atlas;
+    } else {
+      LeftOutAtlasOptions ao;
+      ao.liverDir = o.atlasLivers;
+      ao.scale = o.scale;
+      ao.exclude = fs::path(o.surface).stem().string();
+      ao.cacheDir = o.atlas.empty() ? (fs::path(outDir) / "atlas").string() : o.atlas;
+      ao.transferIterations = o.atlasTransferIterations;
+      transferred = leftOutAtlasCurve(patient, ao, log);
+      result.atlas.source = fmt::format("{} without {}", ao.liverDir, ao.exclude);
+    }
+    springCurve = transferred.curve;
+    result.atlas.used = true;
+    result.atlas.rotationDegrees = transferred.rotationDegrees;
+    result.atlas.buildSeconds = transferred.buildSeconds;
+    result.atlas.transferSeconds = transferred.transferSeconds;
+    result.atlas.meanSigma = transferred.sigma.size() > 0 ? transferred.sigma.mean() : 0.0;
+  }
+  result.annotated = annotated;
+  // The truth's ligament: the expert's curve, or the atlas' on a liver without annotation.
+  const Eigen::MatrixX3d curve =
+      annotated ? Eigen::MatrixX3d(scale * extractAttachmentCurve(surface, edges, 2, name).points)
+                : springCurve;
+  if (!atlasMode) springCurve = curve;
+  if (atlasMode && annotated) {
+    const std::vector<double> d = distancesToPolyline(springCurve, curve);
+    result.atlas.expertDistanceMax = *std::max_element(d.begin(), d.end());
+    result.atlas.expertDistanceMean = 0;
+    for (double x : d) result.atlas.expertDistanceMean += x / static_cast<double>(d.size());
+  }
   Eigen::MatrixX3d ridge;
   bool hasRidge = std::find(edges.labels.begin(), edges.labels.end(), 3) != edges.labels.end();
   if (hasRidge) ridge = scale * extractAttachmentCurve(surface, edges, 3, name).points;
@@ -205,15 +254,18 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   result.fine = fine.report;
   const TetMesh& mesh = coarse.mesh;
 
-  // The estimation springs: their normals orient the anatomy; they size the prior and give the
-  // baseline's fixed nodes.
+  // The estimation springs size the prior and give the baseline's fixed nodes. The anatomy (the
+  // synthetic experiment's loads and points) comes from the truth's ligament, so that atlas and
+  // annotation modes face the same scenario.
   LigamentOptions lo;
   lo.length = o.ligamentLength;
   lo.numGroups = o.groups;
-  const LigamentSprings est = buildLigamentSprings(mesh, curve, lo);
+  const LigamentSprings est = buildLigamentSprings(mesh, springCurve, lo);
   result.curveLength = est.curveLength;
-  const LiverAnatomy a = findAnatomy(mesh, curve, est.normals.colwise().sum().transpose(),
-                                     hasRidge ? &ridge : nullptr);
+  const Vec3 truthNormal =
+      atlasMode ? buildLigamentSprings(mesh, curve, lo).normals.colwise().sum().transpose()
+                : Vec3(est.normals.colwise().sum().transpose());
+  const LiverAnatomy a = findAnatomy(mesh, curve, truthNormal, hasRidge ? &ridge : nullptr);
   result.anatomy = a;
 
   // Observed markers: anterior boundary nodes away from the fixed vessels.
@@ -267,6 +319,7 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   writeTetMesh((dir / "coarse.vtu").string(), coarse.mesh);
   writeTetMesh((dir / "fine.vtu").string(), fine.mesh);
   writePointsCsv((dir / "curve.csv").string(), curve);
+  if (atlasMode) writePointsCsv((dir / "spring_curve.csv").string(), springCurve);
   writePointsCsv((dir / "markers.csv").string(), markers);
   writePointsCsv((dir / "validation.csv").string(), validation);
   writePointsCsv((dir / "tumours.csv").string(), tumours);
@@ -288,6 +341,8 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   spec.fine = std::make_shared<const TetMesh>(fine.mesh);
   spec.coarse = std::make_shared<const TetMesh>(coarse.mesh);
   spec.curve = curve;
+  spec.springCurve = springCurve;
+  if (atlasMode) spec.springCurveFile = "spring_curve.csv";
   spec.markers = markers;
   spec.validation = validation;
   spec.tumours = tumours;
@@ -303,10 +358,25 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
     const double kg = profile * perSpring(spec.truthSpacing);
     spec.truthGroups.push_back({kg / (e0 * e0), 0.0, kg});
   }
-  spec.priorStiffness = o.priorFactor * perSpring(estSpacing);
-  spec.estimationGroups.assign(
-      static_cast<size_t>(o.groups),
-      CubicSpringCoefficients{perSpring(estSpacing) / (e0 * e0), 0.0, spec.priorStiffness});
+  if (o.springPriors.empty()) {
+    spec.priorStiffness = o.priorFactor * perSpring(estSpacing);
+    spec.priorStddev = o.priorSpread * spec.priorStiffness;
+    spec.estimationGroups.assign(
+        static_cast<size_t>(o.groups),
+        CubicSpringCoefficients{perSpring(estSpacing) / (e0 * e0), 0.0, spec.priorStiffness});
+  } else {
+    // A spring stands for `estSpacing` of curve, shared between the layers.
+    const LigamentSpringPriors p =
+        readLigamentSpringPriors(o.springPriors).forRestLength(o.ligamentLength);
+    const double share = estSpacing / lo.layers;
+    spec.priorStiffness = p.kGamma.mean * share;
+    spec.priorStddev = std::hypot(p.kGamma.stddev, o.priorSpread * p.kGamma.mean) * share;
+    spec.estimationGroups.assign(
+        static_cast<size_t>(o.groups),
+        CubicSpringCoefficients{p.kAlpha.mean * share, p.kBeta.mean * share, spec.priorStiffness});
+  }
+  result.priorStiffness = spec.priorStiffness;
+  result.priorStddev = spec.priorStddev;
 
   // Peak forces: given, or such that the coarse model held by the vessels alone (no ligament)
   // moves each lobe by lobeDisplacement (static, linearised by a small calibration force); the
@@ -327,9 +397,10 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   return spec;
 }
 
-LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::string& outDir) {
+LiverScenario prepareLiverScenario(const LiverScenarioOptions& o, const std::string& outDir,
+                                   const std::function<void(const std::string&)>& log) {
   LiverScenario result;
-  const LiverSceneSpec spec = prepareLiverSceneSpec(o, outDir, result);
+  const LiverSceneSpec spec = prepareLiverSceneSpec(o, outDir, result, log);
   result.truthScene = std::make_shared<const Scene>(makeLiverTruthScene(spec));
   result.estimateScene = std::make_shared<const Scene>(makeLiverEstimationScene(spec));
   result.baselineScene = std::make_shared<const Scene>(makeLiverBaselineScene(spec));

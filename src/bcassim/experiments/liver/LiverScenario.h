@@ -3,6 +3,7 @@
 // baseline whose ligament is fixed nodes: three scenes built in code (and written as scene files
 // for the user) sharing markers, validation points, tumours, loads and the vessel region. Metres.
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -18,7 +19,25 @@ inline constexpr const char* kLiverPhantomName = "phantom";
 struct LiverScenarioOptions {
   // Closed triangle surface (.obj, ...), in `scale` units, or kLiverPhantomName.
   std::string surface;
-  std::string eseg;        // edge labels (.eseg); empty: the surface's path with .eseg
+  std::string eseg;  // edge labels (.eseg); empty: the surface's path with .eseg
+  // Atlas mode (thesis §4.3, §5.2; a patient without annotation): the estimation's springs and
+  // the fixed-ligament baseline follow the falciform curve of a ligament atlas transferred onto
+  // this liver, never its annotation. `atlas`: a folder of `bcassim atlas build`; with
+  // `atlasLivers` (annotated livers) an atlas built without this liver, cached in `atlas`
+  // (default OUT/atlas). The .eseg, when there is one, then only gives the truth's ligament (and
+  // the curve's distance reported); without it the truth's ligament follows the atlas curve too.
+  std::string atlas, atlasLivers;
+  int atlasTransferIterations = 100;  // L-BFGS iterations of the transfer's registration
+  // Priors of the estimation's springs from a measured tissue: a springs.yaml of `bcassim ligament
+  // springs` (its coefficients >= 0, per metre of width, scaled to ligamentLength): k_gamma's
+  // mean and standard deviation, k_alpha and k_beta as the known nonlinear terms. Empty: the
+  // prior is priorFactor times the truth's mean stiffness and the cubic term from
+  // stiffeningStretch.
+  std::string springPriors;
+  // How far a patient's ligament may be from the prior, relative to its mean: each k_gamma's
+  // prior standard deviation is sqrt(sigma^2 + (priorSpread mean)^2), sigma the calibration's own
+  // (how well its data fixed the mean; 0 without springPriors).
+  double priorSpread = 1.0;
   double scale = 1e-3;     // m per surface unit (the CT livers are in mm)
   int coarseNodes = 2150;  // estimation mesh (thesis: 2,150)
   int fineNodes = 14000;   // ground-truth mesh (thesis: ~14,300)
@@ -68,13 +87,28 @@ struct LiverAnatomy {
   bool ridgeFound = false;
 };
 
+// Where the estimation's springs came from in atlas mode.
+struct LiverAtlasSprings {
+  bool used = false;
+  std::string source;          // the atlas folder, or "N livers without NAME"
+  double rotationDegrees = 0;  // of the template's rigid alignment onto this liver
+  double buildSeconds = 0, transferSeconds = 0;
+  double meanSigma = 0;  // m, mean standard deviation of the transferred curve (its band)
+  // Distance of the springs' curve from the expert's (m, per point of the springs' curve); -1:
+  // no annotation to compare with.
+  double expertDistanceMean = -1, expertDistanceMax = -1;
+};
+
 struct LiverScenario {
   std::string dir;  // where the files went
   LiverAnatomy anatomy;
+  LiverAtlasSprings atlas;
+  bool annotated = true;  // the truth's ligament is the expert's (.eseg), not the atlas curve
   SurfaceMeshingReport coarse, fine;
-  double curveLength = 0;                // m
-  int fixedNodes = 0;                    // baseline: coarse nodes held in place of the ligament
-  double rightForce = 0, leftForce = 0;  // peak loads used, N
+  double curveLength = 0;  // m
+  int fixedNodes = 0;      // baseline: coarse nodes held in place of the ligament
+  double priorStiffness = 0, priorStddev = 0;  // N/m: each estimated k_gamma's prior
+  double rightForce = 0, leftForce = 0;        // peak loads used, N
   // The three scenes, built in code (LiverScenes.h); the .yaml files say the same for the user.
   // The estimation scene has no tracks until the truth has run (withTruthTracks).
   std::shared_ptr<const Scene> truthScene, estimateScene, baselineScene;
@@ -85,6 +119,8 @@ struct LiverScenario {
 // anatomy.csv (the frame: centre, anterior, superior, lateral) and the scenes for the user,
 // truth.yaml (run first: simulate), estimate.yaml (assimilate) and baseline.yaml (simulate).
 // Throws InputError for unreadable or unmeshable input.
-LiverScenario prepareLiverScenario(const LiverScenarioOptions& options, const std::string& outDir);
+// In atlas mode the atlas is transferred (and built when asked: `log` gets its progress lines).
+LiverScenario prepareLiverScenario(const LiverScenarioOptions& options, const std::string& outDir,
+                                   const std::function<void(const std::string&)>& log = {});
 
 }  // namespace bcassim

@@ -58,7 +58,8 @@ void emitCoarseModel(YAML::Emitter& out, const LiverSceneSpec& spec) {
 
 // springs: one group per stretch of the curve, then the ligament extruded from the curve.
 void emitSprings(YAML::Emitter& out, const LiverSceneSpec& spec,
-                 const std::vector<CubicSpringCoefficients>& groups, double spacing) {
+                 const std::vector<CubicSpringCoefficients>& groups, double spacing,
+                 const std::string& curveFile) {
   out << Key << "springs" << Value << BeginMap << Key << "groups" << Value << BeginSeq;
   for (size_t g = 0; g < groups.size(); ++g) {
     out << Flow << BeginMap << Key << "coefficients" << Value << BeginSeq << groups[g].kAlpha
@@ -66,7 +67,7 @@ void emitSprings(YAML::Emitter& out, const LiverSceneSpec& spec,
     if (g == 0) out << Comment("N/m^3, N/m^2, N/m");
   }
   out << EndSeq << Key << "ligament" << Value << Flow << BeginMap << Key << "curve" << Value
-      << "curve.csv" << Key << "length" << Value << spec.options.ligamentLength;
+      << curveFile << Key << "length" << Value << spec.options.ligamentLength;
   if (spacing > 0) out << Key << "spacing" << Value << spacing;
   out << Key << "layers" << Value << 2 << EndMap << Comment("m") << EndMap;
 }
@@ -142,7 +143,7 @@ void emitAssimilation(YAML::Emitter& out, const LiverSceneSpec& spec) {
     out << Flow << BeginMap << Key << "name" << Value << fmt::format("k_gamma_{}", g) << Key
         << "spring" << Value << BeginMap << Key << "group" << Value << g << Key << "coefficient"
         << Value << "gamma" << EndMap << Key << "mean" << Value << spec.priorStiffness << Key
-        << "stddev" << Value << spec.priorStiffness << Key << "transform" << Value << "bounded-log"
+        << "stddev" << Value << spec.priorStddev << Key << "transform" << Value << "bounded-log"
         << Key << "lower" << Value << spec.stiffnessLower() << Key << "upper" << Value
         << spec.stiffnessUpper() << Key << "random_walk" << Value << spec.stiffnessRandomWalk()
         << EndMap;
@@ -195,18 +196,22 @@ void writeLiverSceneFiles(const LiverSceneSpec& spec) {
                        << "factorized-pcg" << Key << "refresh_every" << Value
                        << spec.truthRefreshEvery << Key << "tolerance" << Value
                        << spec.solverTolerance << EndMap;
-                   emitSprings(out, spec, spec.truthGroups, spec.truthSpacing);
+                   emitSprings(out, spec, spec.truthGroups, spec.truthSpacing, "curve.csv");
                    emitCommonParts(out, spec);
                  });
   writeSceneFile(
       spec, "estimate.yaml",
-      fmt::format("Estimation: coarse StVK liver, the ligament as {} springs in {} groups; "
+      fmt::format("Estimation: coarse StVK liver, the ligament as {} springs in {} groups{}; "
                   "ROUKF\nestimates k_gamma of each group from the {} markers (cubic term "
                   "known).\nRun: bcassim assimilate estimate.yaml --out estimate",
-                  spec.estimationSprings, spec.estimationGroups.size(), spec.markers.rows()),
+                  spec.estimationSprings, spec.estimationGroups.size(),
+                  spec.springCurveFile == "curve.csv"
+                      ? ""
+                      : " on the atlas' mean curve (" + spec.springCurveFile + ")",
+                  spec.markers.rows()),
       [&](YAML::Emitter& out) {
         emitCoarseModel(out, spec);
-        emitSprings(out, spec, spec.estimationGroups, 0.0);
+        emitSprings(out, spec, spec.estimationGroups, 0.0, spec.springCurveFile);
         emitCommonParts(out, spec);
         emitAssimilation(out, spec);
       });

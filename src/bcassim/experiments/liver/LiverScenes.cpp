@@ -115,9 +115,9 @@ Scene makeLiverEstimationScene(const LiverSceneSpec& spec) {
   addCommonParts(spec, scene);
   const int groups = static_cast<int>(spec.estimationGroups.size());
   // Spacing 0: the mean boundary edge length of the coarse mesh.
-  scene.model.springs =
-      CubicSpringSet(ligamentSprings(*spec.coarse, spec.curve, ligamentOptions(spec, 0.0), groups),
-                     spec.estimationGroups);
+  scene.model.springs = CubicSpringSet(
+      ligamentSprings(*spec.coarse, spec.springCurve, ligamentOptions(spec, 0.0), groups),
+      spec.estimationGroups);
   const size_t springs = scene.model.springs.springs().size();
   if (springs > static_cast<size_t>(FrozenTangent::kMaxCorrectedSprings))
     throw InputError(fmt::format(
@@ -141,7 +141,7 @@ Scene makeLiverEstimationScene(const LiverSceneSpec& spec) {
   // LiverSceneSpec::stiffnessLower and LiverScenarioOptions::stiffnessRandomWalk.
   for (int g = 0; g < groups; ++g) {
     EstimatedParameter p = springParameter(
-        g, 2, spec.priorStiffness, spec.priorStiffness,
+        g, 2, spec.priorStiffness, spec.priorStddev,
         ParameterTransform::boundedLog(spec.stiffnessLower(), spec.stiffnessUpper()));
     p.randomWalkPerStep = spec.stiffnessRandomWalk() * std::sqrt(spec.options.dt);
     s.parameters.push_back(p);

@@ -4,6 +4,7 @@
 // for the user (LiverSceneFiles.h) come from the same values. SI units.
 #pragma once
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,9 +23,13 @@ struct LiverSceneSpec {
   LiverAnatomy anatomy;          // the frame, the vessels' sphere, the loaded regions
   std::shared_ptr<const TetMesh> fine, coarse;  // fine.vtu (truth), coarse.vtu (the others)
   Eigen::MatrixX3d curve;                       // falciform attachment curve, m (curve.csv)
-  Eigen::MatrixX3d markers;                     // observed points at rest, m (markers.csv)
-  Eigen::MatrixX3d validation;                  // inner points, never observed, m (validation.csv)
-  Eigen::MatrixX3d tumours;                     // hidden points, m (tumours.csv)
+  // The curve the estimation's springs and the baseline's fixed nodes follow: `curve` itself,
+  // or in atlas mode the atlas' mean curve on this liver (spring_curve.csv).
+  Eigen::MatrixX3d springCurve;
+  std::string springCurveFile = "curve.csv";
+  Eigen::MatrixX3d markers;              // observed points at rest, m (markers.csv)
+  Eigen::MatrixX3d validation;           // inner points, never observed, m (validation.csv)
+  Eigen::MatrixX3d tumours;              // hidden points, m (tumours.csv)
   std::vector<int> ligamentNodes;        // baseline: coarse nodes held in place of the ligament
   double rightForce = 0, leftForce = 0;  // peak loads, N: right lobe down, left lobe anterior
 
@@ -44,7 +49,8 @@ struct LiverSceneSpec {
   // Spring coefficients per group [k_alpha N/m^3, 0, k_gamma N/m]: the truth's vary along the
   // curve, the estimation's start from the prior.
   std::vector<CubicSpringCoefficients> truthGroups, estimationGroups;
-  double priorStiffness = 0;  // prior mean and standard deviation of each k_gamma, N/m
+  double priorStiffness = 0;  // prior mean of each k_gamma, N/m
+  double priorStddev = 0;     // its standard deviation, N/m
   // Bounds of each estimated k_gamma (transform bounded-log), N/m, and its random walk in the
   // scene's unit (N/m per s^0.5: the relative walk times the prior, the log-space walk at the
   // prior, which is the bounds' geometric centre).
@@ -70,8 +76,10 @@ struct LiverSceneSpec {
 // up to, not including, building the scenes and writing their .yaml files; `report` gets the
 // meshing report, anatomy, curve length, fixed nodes and loads. Other experiments built on the
 // liver (experiments/tracked) change the values before building their scenes.
+// `log` gets the progress lines of an atlas built in atlas mode (minutes).
 LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& options, const std::string& outDir,
-                                     LiverScenario& report);
+                                     LiverScenario& report,
+                                     const std::function<void(const std::string&)>& log = {});
 
 // The coarse liver's mechanics alone (mesh, StVK, density; no damping, boundary conditions or
 // springs): the estimation and baseline models, and the load calibration.

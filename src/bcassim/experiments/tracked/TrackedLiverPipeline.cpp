@@ -51,24 +51,6 @@ Eigen::MatrixX3d placeTackers(const TetMesh& fine, const LiverAnatomy& a, int co
   return rowsOf(fine.V, farthestPointSample(fine, anterior, count));
 }
 
-// Distances from the points of `curve` to the polyline `reference`, m.
-std::vector<double> distancesToPolyline(const Eigen::MatrixX3d& curve,
-                                        const Eigen::MatrixX3d& reference) {
-  std::vector<double> d;
-  for (Eigen::Index i = 0; i < curve.rows(); ++i) {
-    const Vec3 p = curve.row(i).transpose();
-    double best = (p - reference.row(0).transpose()).norm();
-    for (Eigen::Index k = 0; k + 1 < reference.rows(); ++k) {
-      const Vec3 a = reference.row(k).transpose(), b = reference.row(k + 1).transpose();
-      const double len2 = (b - a).squaredNorm();
-      const double s = len2 > 0 ? std::clamp((p - a).dot(b - a) / len2, 0.0, 1.0) : 0.0;
-      best = std::min(best, (p - a - s * (b - a)).norm());
-    }
-    d.push_back(best);
-  }
-  return d;
-}
-
 void writeMatrix4(const fs::path& path, const RigidTransform& t) {
   fs::create_directories(path.parent_path());
   std::ofstream f(path);
@@ -246,7 +228,7 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
 
   stage("estimate");
   LiverSceneSpec estimationSpec = spec;
-  estimationSpec.curve = springCurve;
+  estimationSpec.springCurve = springCurve;
   estimationSpec.markers = reg.markersAtRest;
   estimationSpec.ligamentNodes.clear();
   Scene estimation = makeLiverEstimationScene(estimationSpec);

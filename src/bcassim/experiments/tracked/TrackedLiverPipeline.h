@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "bcassim/experiments/liver/AtlasCurve.h"
 #include "bcassim/experiments/liver/ErrorsOverTime.h"
 #include "bcassim/experiments/liver/LiverPipeline.h"
-#include "bcassim/experiments/tracked/LeftOutAtlasCurve.h"
 #include "bcassim/experiments/tracked/SyntheticCamera.h"
 #include "bcassim/experiments/tracked/TackerRegistration.h"
 #include "bcassim/experiments/tracked/TrackingScore.h"
@@ -55,7 +55,7 @@ struct TrackedLiverReport {
   LiverScenario scenario;  // meshes, anatomy, loads (scenes: those of the liver experiment)
   int tackers = 0;
   bool atlasUsed = false;
-  LeftOutAtlasCurve atlas;
+  AtlasCurve atlas;
   // Distance of the springs' curve to the expert's: mean and max over the springs' curve points
   // of the distance to the expert polyline, m (0 without atlas).
   double curveDistanceMean = 0, curveDistanceMax = 0;

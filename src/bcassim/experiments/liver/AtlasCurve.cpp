@@ -1,4 +1,4 @@
-#include "bcassim/experiments/tracked/LeftOutAtlasCurve.h"
+#include "bcassim/experiments/liver/AtlasCurve.h"
 
 #include <fmt/format.h>
 
@@ -8,6 +8,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
+#include "bcassim/Types.h"
 #include "bcassim/atlas/AnnotatedLivers.h"
 #include "bcassim/atlas/AtlasTransfer.h"
 #include "bcassim/atlas/LigamentAtlasFile.h"
@@ -38,12 +39,12 @@ bool cachedFor(const fs::path& dir, const std::string& excluded) {
 
 }  // namespace
 
-LeftOutAtlasCurve leftOutAtlasCurve(const TriMesh& patient, const LeftOutAtlasOptions& o,
-                                    const AtlasLog& log) {
+AtlasCurve leftOutAtlasCurve(const TriMesh& patient, const LeftOutAtlasOptions& o,
+                             const AtlasLog& log) {
   auto say = [&](const std::string& s) {
     if (log) log(s);
   };
-  LeftOutAtlasCurve result;
+  AtlasCurve result;
   const fs::path dir(o.cacheDir);
   LigamentAtlas atlas;
   if (cachedFor(dir, o.exclude)) {
@@ -74,11 +75,45 @@ LeftOutAtlasCurve leftOutAtlasCurve(const TriMesh& patient, const LeftOutAtlasOp
   }
   const auto t1 = Clock::now();
   const AtlasTransfer transfer =
-      transferAtlas(atlas, patient, registrationOptions(100), true, true);
+      transferAtlas(atlas, patient, registrationOptions(o.transferIterations), true, true);
   result.transferSeconds = secondsSince(t1);
   result.curve = transfer.curve.mean;
   result.sigma = transfer.curve.sigma;
+  result.rotationDegrees = transfer.rigidReport.rotationDegrees;
   return result;
+}
+
+AtlasCurve transferredAtlasCurve(const TriMesh& patient, const std::string& atlasDir,
+                                 int transferIterations) {
+  AtlasCurve result;
+  const LigamentAtlas atlas = readLigamentAtlas(atlasDir);
+  result.fromCache = true;
+  const auto t0 = Clock::now();
+  const AtlasTransfer transfer =
+      transferAtlas(atlas, patient, registrationOptions(transferIterations), true, true,
+                    kScannerFrameMaxRotationDegrees);
+  result.transferSeconds = secondsSince(t0);
+  result.curve = transfer.curve.mean;
+  result.sigma = transfer.curve.sigma;
+  result.rotationDegrees = transfer.rigidReport.rotationDegrees;
+  return result;
+}
+
+std::vector<double> distancesToPolyline(const Eigen::MatrixX3d& curve,
+                                        const Eigen::MatrixX3d& reference) {
+  std::vector<double> d;
+  for (Eigen::Index i = 0; i < curve.rows(); ++i) {
+    const Vec3 p = curve.row(i).transpose();
+    double best = (p - reference.row(0).transpose()).norm();
+    for (Eigen::Index k = 0; k + 1 < reference.rows(); ++k) {
+      const Vec3 a = reference.row(k).transpose(), b = reference.row(k + 1).transpose();
+      const double len2 = (b - a).squaredNorm();
+      const double s = len2 > 0 ? std::clamp((p - a).dot(b - a) / len2, 0.0, 1.0) : 0.0;
+      best = std::min(best, (p - a - s * (b - a)).norm());
+    }
+    d.push_back(best);
+  }
+  return d;
 }
 
 }  // namespace bcassim
