@@ -86,6 +86,12 @@ class ServeCommand : public Command {
                                     "--async: the filter waits this long before each frame, s "
                                     "(to see a filter slower than the camera; 0 in use)")
                          ->capture_default_str());
+    app.add_option("--real-time-step", realTimeStep_,
+                   "--async: how the real-time model steps: frozen (the stiffness of the last "
+                   "analysis, built on a thread of its own: one solve per frame) or own (its own "
+                   "stiffness assembled and solved every frame)")
+        ->check(CLI::IsMember({"frozen", "own"}))
+        ->capture_default_str();
     app.add_option("--max-lag", maxLag_,
                    "--async: frames that may wait for the filter before the oldest are skipped")
         ->capture_default_str()
@@ -108,6 +114,8 @@ class ServeCommand : public Command {
     options.sendSurface = !noSurface_;
     options.maxLagFrames = maxLag_;
     options.filterDelay = filterDelay_;
+    options.realTimeTangent =
+        realTimeStep_ == "own" ? RealTimeTangent::Own : RealTimeTangent::Frozen;
     options.mode = async_ ? ServeMode::Asynchronous : ServeMode::Synchronous;
     if (timeOffset_ == "scene")
       options.timeOffset = scene.assimilation->observations.timeOffset;
@@ -175,6 +183,7 @@ class ServeCommand : public Command {
   std::string scenePath_, outDir_ = "out/serve", host_ = "127.0.0.1", timeOffset_ = "scene";
   int port_ = 18944;
   double idleTimeout_ = 0.0, filterDelay_ = 0.0;
+  std::string realTimeStep_ = "frozen";
   bool noSurface_ = false, async_ = false;
   int maxLag_ = 8;
 };

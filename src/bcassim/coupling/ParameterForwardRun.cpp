@@ -22,6 +22,8 @@ ParameterForwardRun::ParameterForwardRun(const Scene& scene,
 void ParameterForwardRun::step() {
   if (statics_)
     statics_->solve(model_, (steps_ + 1) * dt_, state_.x);
+  else if (tangent_)
+    integrator_->stepWithTangent(model_, state_, *tangent_);
   else
     integrator_->step(model_, state_);
   ++steps_;

@@ -4,6 +4,7 @@
 #include <memory>
 #include <vector>
 
+#include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/scene/Scene.h"
 
 namespace bcassim {
@@ -20,6 +21,14 @@ class ParameterForwardRun {
   // New values of the parameters from the next step on (the live real-time model adopts each
   // analysis this way); the state is kept.
   void setValues(const std::vector<EstimatedParameter>& parameters, const Eigen::VectorXd& values);
+  // From now on each implicit-Euler step uses this frozen tangent (ImplicitEuler::stepWithTangent:
+  // a force assembly and one solve) instead of assembling and solving with the state's own; null:
+  // the state's own again. It must have been built for this run's dt (FrozenTangent::build);
+  // static scenes ignore it.
+  void useTangent(std::shared_ptr<const FrozenTangent> tangent) { tangent_ = std::move(tangent); }
+  const MechanicalModel& model() const { return model_; }
+  double dt() const { return dt_; }
+  bool isStatic() const { return statics_ != nullptr; }
   // Positions of mapped points in the current state, m.
   Eigen::MatrixX3d positionsOf(const std::vector<MappedPoint>& points) const;
   double time() const { return state_.t; }
@@ -32,7 +41,8 @@ class ParameterForwardRun {
   MechanicalModel model_;
   MechanicalState state_;
   std::unique_ptr<ImplicitEuler> integrator_;
-  std::unique_ptr<StaticSolver> statics_;  // static scenes
+  std::unique_ptr<StaticSolver> statics_;         // static scenes
+  std::shared_ptr<const FrozenTangent> tangent_;  // useTangent
   double dt_;
   int steps_ = 0;
 };

@@ -1,5 +1,10 @@
 #include "bcassim/navigation/RealTimeModel.h"
 
+#include <chrono>
+#include <cstdlib>
+
+#include "bcassim/Error.h"
+
 namespace bcassim {
 
 namespace {
@@ -13,8 +18,48 @@ Eigen::VectorXd priorMeans(const Scene& scene) {
 
 }  // namespace
 
-RealTimeModel::RealTimeModel(const Scene& scene)
-    : scene_(scene), run_(scene, scene.assimilation->parameters, priorMeans(scene)) {}
+RealTimeModel::RealTimeModel(const Scene& scene, RealTimeTangent tangent, int maxTangentAge)
+    : scene_(scene),
+      run_(scene, scene.assimilation->parameters, priorMeans(scene)),
+      mode_(tangent),
+      maxTangentAge_(maxTangentAge) {
+  requestTangent();
+}
+
+RealTimeModel::~RealTimeModel() {
+  if (pending_.valid()) pending_.wait();
+}
+
+void RealTimeModel::requestTangent() {
+  if (mode_ != RealTimeTangent::Frozen || run_.isStatic() || pending_.valid()) return;
+  tangentModel_.emplace(run_.model());
+  tangentState_ = run_.state();
+  pendingStep_ = run_.steps();
+  // The last tangent's factor gives the build its ordering (FrozenTangent::build).
+  std::shared_ptr<const FrozenTangent> previous = tangent_;
+  const double dt = run_.dt();
+  pending_ = std::async(std::launch::async, [this, previous, dt] {
+    return FrozenTangent::build(*tangentModel_, tangentState_, dt,
+                                previous ? &previous->factor() : nullptr);
+  });
+}
+
+void RealTimeModel::takeReadyTangent() {
+  if (!pending_.valid() || pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return;
+  try {
+    tangent_ = pending_.get();
+    tangentStep_ = pendingStep_;
+    ++tangentsAdopted_;
+  } catch (const NumericalError&) {
+    // Not positive definite there: the last tangent stays (any tangent gives a consistent step).
+  }
+}
+
+void RealTimeModel::finishTangent() {
+  if (pending_.valid()) pending_.wait();
+  takeReadyTangent();
+}
 
 void RealTimeModel::adopt(const Eigen::VectorXd& values, const Eigen::VectorXd& x,
                           const Eigen::VectorXd& v, int step) {
@@ -24,14 +69,28 @@ void RealTimeModel::adopt(const Eigen::VectorXd& values, const Eigen::VectorXd& 
   if (v.size() == x.size()) s.v = v;
   s.t = step * scene_.dt();
   run_.restore(s, step);
+  takeReadyTangent();
+  requestTangent();
 }
 
 void RealTimeModel::adoptParameters(const Eigen::VectorXd& values) {
   run_.setValues(scene_.assimilation->parameters, values);
+  takeReadyTangent();
+  requestTangent();
 }
 
 void RealTimeModel::advanceTo(int step) {
-  while (run_.steps() < step) run_.step();
+  if (run_.steps() >= step) return;
+  while (run_.steps() < step) {
+    takeReadyTangent();
+    const bool young = tangent_ && std::abs(run_.steps() - tangentStep_) < maxTangentAge_;
+    run_.useTangent(young ? tangent_ : nullptr);
+    run_.step();
+    if (young) ++framesWithTangent_;
+  }
+  // The next frame starts here: its tangent starts building now.
+  takeReadyTangent();
+  requestTangent();
 }
 
 Eigen::MatrixX3d RealTimeModel::hiddenPositions() const {

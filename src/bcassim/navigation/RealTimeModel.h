@@ -4,17 +4,39 @@
 // sigma points: a frame costs one model step when the filter keeps up.
 #pragma once
 #include <Eigen/Core>
+#include <future>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "bcassim/coupling/ParameterForwardRun.h"
+#include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/scene/Scene.h"
 
 namespace bcassim {
 
+// How the real-time model steps (implicit-Euler scenes; static ones always solve).
+enum class RealTimeTangent {
+  Own,  // eq. 2.16 with the state's own stiffness, assembled and solved every frame
+  // eq. 2.16 with a stiffness built a few frames before (ImplicitEuler::stepWithTangent: a force
+  // assembly and one solve per frame), on a thread of its own, again as soon as the last build is
+  // done, at the state and parameters of the frame it starts from. A frame whose tangent is older
+  // than the model's largest age, or that has none yet, steps with its own: on a nearly
+  // incompressible liver older tangents go unstable (docs/live.md).
+  Frozen,
+};
+
 class RealTimeModel {
  public:
-  // The scene's model with its prior parameter means, at rest (step 0).
-  explicit RealTimeModel(const Scene& scene);
+  // The scene's model with its prior parameter means, at rest (step 0). With Frozen, the first
+  // tangent (at rest, prior) starts building at once; a tangent serves frames up to
+  // maxTangentAge steps from the one it was built at.
+  explicit RealTimeModel(const Scene& scene, RealTimeTangent tangent = RealTimeTangent::Own,
+                         int maxTangentAge = 2);
+  // Waits for a tangent still being built.
+  ~RealTimeModel();
+  RealTimeModel(const RealTimeModel&) = delete;
+  RealTimeModel& operator=(const RealTimeModel&) = delete;
 
   // From now on: `values` (physical) and, at step `step`, positions x and velocities v (3 #nodes
   // each, m and m/s; v empty for a static scene).
@@ -28,10 +50,31 @@ class RealTimeModel {
   int step() const { return run_.steps(); }
   const Eigen::VectorXd& positions() const { return run_.state().x; }
   Eigen::MatrixX3d hiddenPositions() const;
+  // Frozen: tangents built and taken into use so far (a build that failed keeps the last one),
+  // and frames stepped with one.
+  int tangentsAdopted() const { return tangentsAdopted_; }
+  int framesWithTangent() const { return framesWithTangent_; }
+  // Waits for a build in progress and takes it into use (tests and benchmarks; the real-time loop
+  // never waits).
+  void finishTangent();
 
  private:
+  // Starts building the tangent of the current model and state, unless a build is running.
+  void requestTangent();
+  // Takes a finished build into use.
+  void takeReadyTangent();
+
   const Scene& scene_;
   ParameterForwardRun run_;
+  RealTimeTangent mode_;
+  int maxTangentAge_;
+  std::shared_ptr<const FrozenTangent> tangent_;
+  int tangentStep_ = 0, pendingStep_ = 0;  // the steps their states were at
+  int tangentsAdopted_ = 0, framesWithTangent_ = 0;
+  // The copy the pending build reads; declared before it so that the build ends first.
+  std::optional<MechanicalModel> tangentModel_;
+  MechanicalState tangentState_;
+  std::future<std::shared_ptr<const FrozenTangent>> pending_;
 };
 
 }  // namespace bcassim

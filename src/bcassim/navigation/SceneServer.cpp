@@ -130,7 +130,7 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o, IgtlS
                                 FrameIntake& intake, const std::atomic<bool>& interrupted) {
   const AssimilationSettings& s = *scene.assimilation;
   FramePublisher publisher(server, *scene.model.mesh, o.sendSurface, o.outDir);
-  RealTimeModel model(scene);
+  RealTimeModel model(scene, o.realTimeTangent);
   const Eigen::Index nodes3 = model.positions().size();
 
   RunnerHandoff handoff;

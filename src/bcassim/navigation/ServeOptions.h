@@ -4,6 +4,8 @@
 #include <optional>
 #include <string>
 
+#include "bcassim/navigation/RealTimeModel.h"
+
 namespace bcassim {
 
 enum class ServeMode {
@@ -25,6 +27,8 @@ struct ServeOptions {
   // Asynchronous: the filter waits this long before each frame, s. For tests and demonstrations
   // of a filter slower than the camera; 0 in use.
   double filterDelay = 0.0;
+  // Asynchronous: how the real-time model steps (RealTimeModel.h).
+  RealTimeTangent realTimeTangent = RealTimeTangent::Frozen;
 };
 
 }  // namespace bcassim
