@@ -22,6 +22,7 @@
 #include "bcassim/mechanics/CubicSpringSet.h"
 #include "bcassim/mesh/ClosestPoint.h"
 #include "bcassim/scene/LigamentSpringPriors.h"
+#include "support/SmallLiverOptions.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -65,14 +66,9 @@ LigamentAtlas atlasModeSmallAtlas(const LiverPhantom& p) {
 }
 
 LiverScenarioOptions atlasModeSmallLiver(const fs::path& surface) {
-  LiverScenarioOptions o;
+  LiverScenarioOptions o = test::smallLiverOptions();
   o.surface = surface.string();
   o.scale = 1e-3;  // the patient file in mm, as the CT livers
-  o.coarseNodes = 700;
-  o.fineNodes = 1200;
-  o.groups = 3;
-  o.steps = 6;
-  o.observedSteps = 4;
   o.atlasTransferIterations = 20;
   return o;
 }
@@ -179,13 +175,7 @@ TEST(LiverNewPatient, SpringPriorsComeFromTheCalibratedMembrane) {
   const LigamentSpringPriors perMetre = readLigamentSpringPriors(yaml);
   EXPECT_DOUBLE_EQ(perMetre.restLength, 0.1);
 
-  LiverScenarioOptions o;
-  o.surface = kLiverPhantomName;
-  o.coarseNodes = 700;
-  o.fineNodes = 1200;
-  o.groups = 3;
-  o.steps = 6;
-  o.observedSteps = 4;
+  LiverScenarioOptions o = test::smallLiverOptions();
   const LiverScenario guessed = prepareLiverScenario(o, (dir / "guessed").string());
   o.springPriors = yaml;
   const LiverScenario measured = prepareLiverScenario(o, (dir / "measured").string());

@@ -11,6 +11,7 @@
 #include "bcassim/experiments/liver/LiverScenes.h"
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/scene/SceneLoader.h"
+#include "support/SmallLiverOptions.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -187,13 +188,7 @@ void writeTruthTracks(const std::filesystem::path& dir, const Scene& scene) {
 
 TEST(LiverScenes, WrittenFilesLoadIntoTheScenesBuiltInCode) {
   const auto dir = test::freshDir();
-  LiverScenarioOptions o;
-  o.surface = kLiverPhantomName;
-  o.coarseNodes = 700;
-  o.fineNodes = 1200;
-  o.groups = 3;
-  o.steps = 6;
-  o.observedSteps = 4;
+  LiverScenarioOptions o = test::smallLiverOptions();
   o.noise = 2e-5;  // below the filter's floor of 0.1 mm: sigma differs from noise_stddev
   const LiverScenario scenario = prepareLiverScenario(o, dir.string());
   ASSERT_TRUE(scenario.truthScene && scenario.estimateScene && scenario.baselineScene);

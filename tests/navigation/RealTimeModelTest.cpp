@@ -11,6 +11,7 @@
 
 #include "bcassim/experiments/liver/LiverScenario.h"
 #include "bcassim/navigation/RealTimeModel.h"
+#include "support/SmallLiverOptions.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -18,14 +19,8 @@ namespace {
 
 // The phantom liver's estimation scene (2 spring groups), coarse.
 std::shared_ptr<const Scene> realTimePhantomScene() {
-  LiverScenarioOptions o;
-  o.surface = kLiverPhantomName;
-  o.coarseNodes = 700;
-  o.fineNodes = 1200;
-  o.groups = 2;
-  o.steps = 10;
-  o.observedSteps = 5;
-  return prepareLiverScenario(o, test::freshDir().string()).estimateScene;
+  return prepareLiverScenario(test::smallLiverOptions(2, 10), test::freshDir().string())
+      .estimateScene;
 }
 
 double realTimeMedianMs(std::vector<double> v) {
