@@ -36,9 +36,8 @@ struct RealTimeComparison {
 };
 
 RealTimeComparison realTimeCompare(const Scene& scene, int frames, bool waitEachFrame,
-                                   double periodSeconds = 0) {
+                                   double periodSeconds, RealTimeModel& frozen) {
   RealTimeModel own(scene, RealTimeTangent::Own);
-  RealTimeModel frozen(scene, RealTimeTangent::Frozen);
   RealTimeComparison r;
   std::vector<double> ownMs, frozenMs;
   auto next = std::chrono::steady_clock::now();
@@ -69,7 +68,8 @@ RealTimeComparison realTimeCompare(const Scene& scene, int frames, bool waitEach
 
 TEST(RealTimeModel, FrozenTangentOfTheFramesOwnStateIsTheOwnStep) {
   const std::shared_ptr<const Scene> scene = realTimePhantomScene();
-  const RealTimeComparison r = realTimeCompare(*scene, 40, true);
+  RealTimeModel frozen(*scene, RealTimeTangent::Frozen, 1, 1);  // a tangent per frame
+  const RealTimeComparison r = realTimeCompare(*scene, 40, true, 0, frozen);
   std::printf("tangent of each frame's own state, 40 frames: motion %.2f mm, gap %.2e mm\n",
               1e3 * r.largestMotion, 1e3 * r.largestGap);
   EXPECT_EQ(r.framesWithTangent, 40);
@@ -79,11 +79,45 @@ TEST(RealTimeModel, FrozenTangentOfTheFramesOwnStateIsTheOwnStep) {
   EXPECT_LT(r.largestGap, 1e-5 * r.largestMotion);
 }
 
+// Tangents refreshed every k frames (each frame waits for its build: ages 0 .. k-1 exactly).
+TEST(RealTimeModel, OlderTangentsDriftSlowlyFromTheOwnStep) {
+  const std::shared_ptr<const Scene> scene = realTimePhantomScene();
+  std::vector<double> gaps;
+  double motion = 0;
+  for (int k : {2, 4, 8}) {
+    RealTimeModel own(*scene, RealTimeTangent::Own);
+    RealTimeModel frozen(*scene, RealTimeTangent::Frozen, k, k);
+    double gap = 0;
+    for (int f = 1; f <= 150; ++f) {
+      frozen.finishTangent();
+      own.advanceTo(f);
+      frozen.advanceTo(f);
+      gap = std::max(
+          gap, (own.hiddenPositions() - frozen.hiddenPositions()).rowwise().norm().maxCoeff());
+      const Eigen::VectorXd m = own.positions() - scene->model.restPositions();
+      motion = std::max(motion, m.reshaped(3, m.size() / 3).colwise().norm().maxCoeff());
+    }
+    EXPECT_EQ(frozen.framesWithTangent(), 150);
+    EXPECT_EQ(frozen.tangentsAdopted(), (150 + k - 1) / k);
+    gaps.push_back(gap);
+    std::printf(
+        "tangent refreshed every %d frames: hidden points within %.3f mm of the own step "
+        "(motion %.2f mm)\n",
+        k, 1e3 * gap, 1e3 * motion);
+  }
+  // First order in the tangent's age, and small at the serving default (refresh every 3 frames).
+  EXPECT_LT(gaps[0], gaps[1]);
+  EXPECT_LT(gaps[1], gaps[2]);
+  EXPECT_LT(gaps[1], 0.02 * motion);
+  EXPECT_LT(gaps[2], 0.06 * motion);
+}
+
 TEST(RealTimeModel, FrozenTangentsBuiltBehindTheLoopStayOnTheOwnStep) {
   const std::shared_ptr<const Scene> scene = realTimePhantomScene();
   // 150 frames (3 s of the lobes' loads) at a camera's 30 Hz, the builds running behind as in
   // `serve --async`: frames whose tangent is not young enough step with their own.
-  const RealTimeComparison r = realTimeCompare(*scene, 150, false, 1.0 / 30);
+  RealTimeModel frozen(*scene, RealTimeTangent::Frozen);  // the serving defaults
+  const RealTimeComparison r = realTimeCompare(*scene, 150, false, 1.0 / 30, frozen);
   std::printf(
       "tangents built behind the loop, 150 frames: motion %.2f mm, gap %.3f mm, %d frames with a "
       "frozen tangent; median step own %.2f ms, frozen %.2f ms\n",

@@ -18,11 +18,13 @@ Eigen::VectorXd priorMeans(const Scene& scene) {
 
 }  // namespace
 
-RealTimeModel::RealTimeModel(const Scene& scene, RealTimeTangent tangent, int maxTangentAge)
+RealTimeModel::RealTimeModel(const Scene& scene, RealTimeTangent tangent, int maxTangentAge,
+                             int refreshEvery)
     : scene_(scene),
       run_(scene, scene.assimilation->parameters, priorMeans(scene)),
       mode_(tangent),
-      maxTangentAge_(maxTangentAge) {
+      maxTangentAge_(maxTangentAge),
+      refreshEvery_(refreshEvery) {
   requestTangent();
 }
 
@@ -88,9 +90,9 @@ void RealTimeModel::advanceTo(int step) {
     run_.step();
     if (young) ++framesWithTangent_;
   }
-  // The next frame starts here: its tangent starts building now.
+  // The next frame starts here: a tangent for it starts building now when due.
   takeReadyTangent();
-  requestTangent();
+  if (!tangent_ || std::abs(run_.steps() - tangentStep_) >= refreshEvery_) requestTangent();
 }
 
 Eigen::MatrixX3d RealTimeModel::hiddenPositions() const {

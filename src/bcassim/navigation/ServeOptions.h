@@ -27,8 +27,9 @@ struct ServeOptions {
   // Asynchronous: the filter waits this long before each frame, s. For tests and demonstrations
   // of a filter slower than the camera; 0 in use.
   double filterDelay = 0.0;
-  // Asynchronous: how the real-time model steps (RealTimeModel.h).
-  RealTimeTangent realTimeTangent = RealTimeTangent::Frozen;
+  // Asynchronous: how the real-time model steps (RealTimeModel.h). Own by default: on 2 cores the
+  // frozen tangent's builds compete with the filter and the real-time thread (docs/live.md).
+  RealTimeTangent realTimeTangent = RealTimeTangent::Own;
 };
 
 }  // namespace bcassim
