@@ -144,6 +144,7 @@ TEST(CommandOptions, ThreadsBelowOneIsAnArgumentErrorNamingThreads) {
 TEST(CommandOptions, NegativeWalkAndCameraOffsetAreArgumentErrorsNamingTheOption) {
   const std::pair<const char*, const char*> options[] = {
       {"liver prepare phantom", "--stiffness-walk"},
+      {"liver prepare phantom", "--prior-spread"},
       {"liver tracked phantom", "--camera-offset"},
       {"serve s.yaml", "--idle-timeout"},
       {"serve s.yaml", "--filter-delay"},
@@ -178,8 +179,9 @@ TEST(CommandOptions, ServeAndReplayRefuseBadValuesNamingTheOption) {
     EXPECT_EQ(r.err, std::string("bcassim: error: --to '") + to +
                          "': expected HOST:PORT with a port from 1 to 65535\n");
   }
-  for (const char* args : {"serve s.yaml --port 70000", "serve s.yaml --max-lag 0",
-                           "replay t.csv --to h:1 --rate 0"}) {
+  for (const char* args :
+       {"serve s.yaml --port 70000", "serve s.yaml --max-lag 0",
+        "serve s.yaml --real-time-step fast", "replay t.csv --to h:1 --rate 0"}) {
     r = runBcassim(dir, args);
     const std::string option = std::string(args).substr(std::string(args).rfind(" --") + 1);
     EXPECT_EQ(r.exitCode, 2) << args;
@@ -206,6 +208,16 @@ TEST(CommandOptions, MissingInputFileIsOneLineNamingIt) {
   expectMissingFile("atlas register none.obj b.obj --out o", std::string("none.obj") + noSurface);
   expectMissingFile("track none.csv", "none.csv: cannot open file");
   expectMissingFile("register none.vtu p.csv", "none.vtu: cannot open file");
+  // liver prepare names the surface on stdout first; then the one line of the file it lacks.
+  const std::pair<const char*, const char*> liverFiles[] = {
+      {"--spring-priors none.yaml", "none.yaml: cannot read the spring priors (springs.yaml)"},
+      {"--atlas none", "none: expected an atlas folder (from 'bcassim atlas build')"}};
+  for (const auto& [option, message] : liverFiles) {
+    const test::CliResult r =
+        runBcassim(freshDir(), std::string("liver prepare phantom ") + option);
+    EXPECT_EQ(r.exitCode, 2) << option;
+    EXPECT_EQ(r.err, std::string("bcassim: error: ") + message + "\n");
+  }
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "bcassim/Error.h"
 #include "bcassim/experiments/liver/AtlasCurve.h"
@@ -173,6 +174,10 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw OutputError(outDir + ": cannot create directory (" + ec.message() + ")");
+
+  // Read first: a bad file is reported before minutes of meshing and atlas transfer.
+  std::optional<LigamentSpringPriors> priors;
+  if (!o.springPriors.empty()) priors = readLigamentSpringPriors(o.springPriors);
 
   TriMesh surface;
   LabelledEdges edges;
@@ -366,8 +371,7 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
         CubicSpringCoefficients{perSpring(estSpacing) / (e0 * e0), 0.0, spec.priorStiffness});
   } else {
     // A spring stands for `estSpacing` of curve, shared between the layers.
-    const LigamentSpringPriors p =
-        readLigamentSpringPriors(o.springPriors).forRestLength(o.ligamentLength);
+    const LigamentSpringPriors p = priors->forRestLength(o.ligamentLength);
     const double share = estSpacing / lo.layers;
     spec.priorStiffness = p.kGamma.mean * share;
     spec.priorStddev = std::hypot(p.kGamma.stddev, o.priorSpread * p.kGamma.mean) * share;
