@@ -58,9 +58,18 @@ void InnovationNoiseEstimator::update() {
     const double next = std::max(floorVariance_, numerator / denominator);
     const bool converged = std::abs(next - s) <= 1e-12 * s;
     s = next;
-    if (converged) break;
+    if (converged) {
+      variance_ = s;
+      return;
+    }
   }
-  variance_ = s;
+  // No fixed point within 100 iterations: the unweighted estimate, which needs none.
+  double numerator = missingEntries * initialVariance_, denominator = missingEntries;
+  for (const Step& step : steps_) {
+    numerator += step.squaredNorm - step.trace;
+    denominator += step.entries;
+  }
+  variance_ = std::max(floorVariance_, numerator / denominator);
 }
 
 Eigen::MatrixXd InnovationNoiseEstimator::saved() const {

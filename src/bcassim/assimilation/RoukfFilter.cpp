@@ -2,11 +2,9 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -95,12 +93,11 @@ void RoukfFilter::addParameterNoise(RepairLog& repairs) {
 }
 
 // tr(H P H^T) = tr(HL U^-1 HL^T) with the predicted U: the identity unless parameter noise was
-// added (then ||C^-1 HL^T||_F^2 with U = C C^T).
-double RoukfFilter::predictedTrace(const Eigen::MatrixXd& HL) const {
+// added (then ||C^-1 HL^T||_F^2 with U = C C^T, repaired as every factor of U is).
+double RoukfFilter::predictedTrace(const Eigen::MatrixXd& HL, RepairLog& repairs) const {
   if (processVariance_.size() == 0) return HL.squaredNorm();
-  const Eigen::LLT<Eigen::MatrixXd> llt(U_);
-  if (llt.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
-  return llt.matrixL().solve(HL.transpose()).squaredNorm();
+  const Eigen::MatrixXd C = choleskyWithRepair(U_, repairs);
+  return C.triangularView<Eigen::Lower>().solve(HL.transpose()).squaredNorm();
 }
 
 FilterStepReport RoukfFilter::step(const Observation& y) {
@@ -137,7 +134,7 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
     const Eigen::MatrixXd HL = (Zs.colwise() - zMean) * DIt;  // H L
     const Eigen::MatrixXd W = obs.whiten(HL);
     const Eigen::VectorXd innovation = obs.values() - zMean;
-    report.predictedObservationTrace = predictedTrace(HL);
+    report.predictedObservationTrace = predictedTrace(HL, repairs);
     U_.noalias() += W.transpose() * W;
     const Eigen::MatrixXd C = choleskyWithRepair(U_, repairs);
     const auto Cl = C.triangularView<Eigen::Lower>();

@@ -55,7 +55,7 @@ class RoukfFilter final : public Filter {
 
  private:
   void addParameterNoise(RepairLog& repairs);
-  double predictedTrace(const Eigen::MatrixXd& HL) const;
+  double predictedTrace(const Eigen::MatrixXd& HL, RepairLog& repairs) const;
 
   ForecastEnsemble ensemble_;
   SigmaPointSet sigma_;
