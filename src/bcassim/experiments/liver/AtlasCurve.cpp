@@ -31,6 +31,18 @@ RegistrationOptions registrationOptions(int iterations) {
   return o;
 }
 
+// The atlas' mean curve and sigma carried and projected onto the patient, into `result`.
+void transferOnto(const LigamentAtlas& atlas, const TriMesh& patient, int iterations,
+                  double maxRotationDegrees, AtlasCurve& result) {
+  const auto t0 = Clock::now();
+  const AtlasTransfer transfer = transferAtlas(atlas, patient, registrationOptions(iterations),
+                                               true, true, maxRotationDegrees);
+  result.transferSeconds = secondsSince(t0);
+  result.curve = transfer.curve.mean;
+  result.sigma = transfer.curve.sigma;
+  result.rotationDegrees = transfer.rigidReport.rotationDegrees;
+}
+
 bool cachedFor(const fs::path& dir, const std::string& excluded) {
   std::ifstream in(dir / kExcludedFile);
   std::string name;
@@ -73,13 +85,7 @@ AtlasCurve leftOutAtlasCurve(const TriMesh& patient, const LeftOutAtlasOptions& 
     fs::rename(partial, dir);
     result.buildSeconds = secondsSince(t0);
   }
-  const auto t1 = Clock::now();
-  const AtlasTransfer transfer =
-      transferAtlas(atlas, patient, registrationOptions(o.transferIterations), true, true);
-  result.transferSeconds = secondsSince(t1);
-  result.curve = transfer.curve.mean;
-  result.sigma = transfer.curve.sigma;
-  result.rotationDegrees = transfer.rigidReport.rotationDegrees;
+  transferOnto(atlas, patient, o.transferIterations, 180.0, result);
   return result;
 }
 
@@ -88,14 +94,7 @@ AtlasCurve transferredAtlasCurve(const TriMesh& patient, const std::string& atla
   AtlasCurve result;
   const LigamentAtlas atlas = readLigamentAtlas(atlasDir);
   result.fromCache = true;
-  const auto t0 = Clock::now();
-  const AtlasTransfer transfer =
-      transferAtlas(atlas, patient, registrationOptions(transferIterations), true, true,
-                    kScannerFrameMaxRotationDegrees);
-  result.transferSeconds = secondsSince(t0);
-  result.curve = transfer.curve.mean;
-  result.sigma = transfer.curve.sigma;
-  result.rotationDegrees = transfer.rigidReport.rotationDegrees;
+  transferOnto(atlas, patient, transferIterations, kScannerFrameMaxRotationDegrees, result);
   return result;
 }
 
