@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev libopenmpi-dev
   python3 python3-dev python3-matplotlib python3-numpy python3-scipy python3-pytest pybind11-dev  # the Python module (import bcassim) and its pytest suites
   openmpi-bin  # mpirun: the MPI executor (assimilate --mpi) and its 3-rank test
+  libscalapack-openmpi-dev  # the full-state UKF's Cholesky factor shared by the MPI ranks
   zlib1g-dev liblz4-dev liblzma-dev  # the compressors of VTK XML files, read by io/VtkXmlReader
   clang-format clang-tidy  # make lint: the formatting and the bug-finding checks CI runs
   clang-14 libclang-rt-14-dev  # make fuzz: libFuzzer, AddressSanitizer and UBSan runtimes

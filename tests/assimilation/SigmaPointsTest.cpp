@@ -82,6 +82,37 @@ TEST(SigmaPoints, StructuredPointsAndLargeKernelsEqualTheDenseFormulas) {
   EXPECT_FALSE(choleskyLower(notSpd, S));
 }
 
+// The UKF's correction on the system BLAS from kLargeDense rows: P_xz = dX W dZ^T and P -= G^T G
+// equal Eigen's products, and the lower-triangle Gram of a block of columns equals the full one.
+TEST(SigmaPoints, LargeCorrectionKernelsEqualEigensProducts) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const Eigen::Index n = kLargeDense + 31, s = 40, m = 7;
+  Eigen::MatrixXd dX(n, s), dZ(m, s), G(m, n);
+  for (Eigen::Index i = 0; i < dX.size(); ++i) dX(i) = g(rng);
+  for (Eigen::Index i = 0; i < dZ.size(); ++i) dZ(i) = g(rng);
+  for (Eigen::Index i = 0; i < G.size(); ++i) G(i) = g(rng);
+  const Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(s, 0.5, 1.5) / s;
+  const Eigen::MatrixXd right = w.asDiagonal() * dZ.transpose();
+  Eigen::MatrixXd Pxz;
+  multiply(dX, right, Pxz);
+  const Eigen::MatrixXd PxzEigen = dX * right;
+  EXPECT_LT((Pxz - PxzEigen).cwiseAbs().maxCoeff(), 1e-13 * PxzEigen.cwiseAbs().maxCoeff());
+
+  Eigen::MatrixXd P = testing::randomSpd(n, rng), PEigen = P;
+  subtractGram(G, P);
+  PEigen -= G.transpose() * G;
+  EXPECT_LT((P - PEigen).cwiseAbs().maxCoeff(), 1e-13 * PEigen.cwiseAbs().maxCoeff());
+  EXPECT_EQ(P, P.transpose());
+
+  Eigen::MatrixXd lower, full;
+  weightedGramLower(dX.middleCols(5, 20), w.segment(5, 20), lower);
+  weightedGram(dX.middleCols(5, 20), w.segment(5, 20), full);
+  EXPECT_EQ(Eigen::MatrixXd(lower.triangularView<Eigen::Lower>()),
+            Eigen::MatrixXd(full.triangularView<Eigen::Lower>()));
+  EXPECT_EQ(full, full.transpose());
+}
+
 TEST(SigmaPoints, SimplexPointsAreEquidistantFromTheMean) {
   const SigmaPointSet set = simplexSigmaPoints(6);
   const double r = set.unit.col(0).norm();

@@ -5,14 +5,16 @@
 #include <cmath>
 
 #include "bcassim/Error.h"
-#include "bcassim/assimilation/LargeDenseKernels.h"
 
 namespace bcassim {
 
-Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log) {
+Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log,
+                                   DenseAlgebra* algebra) {
   if (!P.allFinite()) throw NumericalError("covariance has non-finite entries");
+  DenseAlgebra here;
+  DenseAlgebra& kernels = algebra != nullptr ? *algebra : here;
   Eigen::MatrixXd L;
-  if (choleskyLower(P, L)) return L;
+  if (kernels.choleskyLower(P, L)) return L;
 
   const Eigen::Index n = P.rows();
   Eigen::MatrixXd S = 0.5 * (P + P.transpose());
@@ -22,7 +24,7 @@ Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log) {
   for (double jitter = 1e-10 * scale; jitter <= 1e10 * scale; jitter *= 10) {
     S.diagonal().array() += jitter - added;
     added = jitter;
-    if (choleskyLower(S, L)) {
+    if (kernels.choleskyLower(S, L)) {
       ++log.repairs;
       log.largestJitter = std::max(log.largestJitter, jitter);
       return L;

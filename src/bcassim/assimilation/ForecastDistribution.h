@@ -3,6 +3,8 @@
 #pragma once
 #include <Eigen/Core>
 
+#include "bcassim/assimilation/DenseAlgebra.h"
+
 namespace bcassim {
 
 // Contract: the other processes hold the same models, layout and reference as this one (built
@@ -26,6 +28,10 @@ class ForecastDistribution {
   virtual void receive(Eigen::MatrixXd& forecasts, Eigen::MatrixXd& observables) = 0;
   // The step ended at the analysed mean (unconstrained): the other processes' models move on.
   virtual void endStep(const Eigen::VectorXd& mean) = 0;
+  // The filter's dense algebra shared with the other processes (they hold the last forecasts'
+  // columns they computed), or null: the filter runs it alone. Calls come between receive() and
+  // endStep() for the Gram matrix, anywhere between steps for Cholesky factors.
+  virtual DenseAlgebra* sharedAlgebra() { return nullptr; }
 };
 
 }  // namespace bcassim

@@ -7,13 +7,17 @@
 extern "C" {
 void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
             const double* a, const int* lda, const double* beta, double* c, const int* ldc);
+void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
+            const double* alpha, const double* a, const int* lda, const double* b, const int* ldb,
+            const double* beta, double* c, const int* ldc);
 void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
 }
 
 namespace bcassim {
 
-void weightedGram(const Eigen::MatrixXd& D, const Eigen::VectorXd& w, Eigen::MatrixXd& P,
-                  Eigen::Index largeFrom) {
+void weightedGramLower(const Eigen::Ref<const Eigen::MatrixXd>& D,
+                       const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::MatrixXd& P,
+                       Eigen::Index largeFrom) {
   if (w.size() != D.cols()) throw std::invalid_argument("weightedGram: one weight per column");
   if ((w.array() < 0.0).any()) throw std::invalid_argument("weightedGram: negative weight");
   const Eigen::Index n = D.rows();
@@ -26,7 +30,48 @@ void weightedGram(const Eigen::MatrixXd& D, const Eigen::VectorXd& w, Eigen::Mat
   const int nn = static_cast<int>(n), k = static_cast<int>(D.cols());
   const int lda = static_cast<int>(scaled.outerStride()), ldc = nn;
   const double one = 1.0, zero = 0.0;
-  dsyrk_("L", "N", &nn, &k, &one, scaled.data(), &lda, &zero, P.data(), &ldc);
+  if (k > 0) {
+    dsyrk_("L", "N", &nn, &k, &one, scaled.data(), &lda, &zero, P.data(), &ldc);
+  } else {
+    P.triangularView<Eigen::Lower>().setZero();
+  }
+}
+
+void weightedGram(const Eigen::Ref<const Eigen::MatrixXd>& D,
+                  const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::MatrixXd& P,
+                  Eigen::Index largeFrom) {
+  weightedGramLower(D, w, P, largeFrom);
+  if (D.rows() >= largeFrom) P.triangularView<Eigen::StrictlyUpper>() = P.transpose();
+}
+
+void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A,
+              const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::MatrixXd& C,
+              Eigen::Index largeFrom) {
+  if (A.cols() != B.rows()) throw std::invalid_argument("multiply: sizes disagree");
+  if (A.rows() < largeFrom || A.cols() == 0 || B.cols() == 0) {
+    C.noalias() = A * B;
+    return;
+  }
+  C.resize(A.rows(), B.cols());
+  const int m = static_cast<int>(A.rows()), n = static_cast<int>(B.cols());
+  const int k = static_cast<int>(A.cols());
+  const int lda = static_cast<int>(A.outerStride()), ldb = static_cast<int>(B.outerStride());
+  const double one = 1.0, zero = 0.0;
+  dgemm_("N", "N", &m, &n, &k, &one, A.data(), &lda, B.data(), &ldb, &zero, C.data(), &m);
+}
+
+void subtractGram(const Eigen::Ref<const Eigen::MatrixXd>& G, Eigen::MatrixXd& P,
+                  Eigen::Index largeFrom) {
+  const Eigen::Index n = P.rows();
+  if (G.cols() != n || P.cols() != n) throw std::invalid_argument("subtractGram: sizes disagree");
+  if (n < largeFrom || G.rows() == 0) {
+    P.noalias() -= G.transpose() * G;
+    return;
+  }
+  const int nn = static_cast<int>(n), k = static_cast<int>(G.rows());
+  const int ldg = static_cast<int>(G.outerStride()), ldp = static_cast<int>(P.outerStride());
+  const double minusOne = -1.0, one = 1.0;
+  dsyrk_("L", "T", &nn, &k, &minusOne, G.data(), &ldg, &one, P.data(), &ldp);
   P.triangularView<Eigen::StrictlyUpper>() = P.transpose();
 }
 

@@ -10,7 +10,23 @@ namespace bcassim {
 inline constexpr Eigen::Index kLargeDense = 200;
 
 // P = D diag(w) D^T with w >= 0 (the weights of a sigma-point set); symmetric by construction.
-void weightedGram(const Eigen::MatrixXd& D, const Eigen::VectorXd& w, Eigen::MatrixXd& P,
+void weightedGram(const Eigen::Ref<const Eigen::MatrixXd>& D,
+                  const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::MatrixXd& P,
+                  Eigen::Index largeFrom = kLargeDense);
+
+// The lower triangle of the same, the strict upper triangle left unspecified (one pass less over
+// an n x n matrix, for callers that mirror it once after summing several).
+void weightedGramLower(const Eigen::Ref<const Eigen::MatrixXd>& D,
+                       const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::MatrixXd& P,
+                       Eigen::Index largeFrom = kLargeDense);
+
+// C = A B (dgemm from kLargeDense rows of A).
+void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A,
+              const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::MatrixXd& C,
+              Eigen::Index largeFrom = kLargeDense);
+
+// P -= G^T G for a symmetric P (n x n) and a short G (k x n): the Kalman update of a covariance.
+void subtractGram(const Eigen::Ref<const Eigen::MatrixXd>& G, Eigen::MatrixXd& P,
                   Eigen::Index largeFrom = kLargeDense);
 
 // The lower Cholesky factor L of the symmetric A (L L^T = A, upper triangle zero); false if A

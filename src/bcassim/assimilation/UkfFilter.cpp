@@ -17,7 +17,10 @@ UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
                      UkfOptions options)
     : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone,
                 options.observation, options.distribution),
-      options_(std::move(options)) {
+      options_(std::move(options)),
+      algebra_(options_.distribution != nullptr && options_.distribution->sharedAlgebra() != nullptr
+                   ? options_.distribution->sharedAlgebra()
+                   : &localAlgebra_) {
   const StochasticState& s = ensemble_.layout();
   const Eigen::Index n = s.size();
   if (!(options_.spread > 0.0) || !std::isfinite(options_.spread))
@@ -57,7 +60,8 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   if (noiseFirst) P_.diagonal() += options_.processVariance;
 
   // Prediction (Alg. 1 lines 9-14).
-  const Eigen::MatrixXd X = sigma_.points(x_, options_.spread * choleskyWithRepair(P_, repairs));
+  const Eigen::MatrixXd X =
+      sigma_.points(x_, options_.spread * choleskyWithRepair(P_, repairs, algebra_));
   Eigen::MatrixXd Xf, O, Z;
   const auto forecastStart = Clock::now();
   ensemble_.forecast(X, Xf, O);
@@ -68,7 +72,7 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   x_ = sigma_.meanOf(Xf);
   const double unscale = 1.0 / options_.spread;
   const Eigen::MatrixXd dX = unscale * (Xf.colwise() - x_);
-  weightedGram(dX, w, P_);
+  algebra_->weightedGram(dX, w, unscale, P_);
   if (options_.processVariance.size() != 0 && !noiseFirst)
     P_.diagonal() += options_.processVariance;
   const Observation used = ensemble_.predict(y, w, O, Z);
@@ -79,7 +83,8 @@ FilterStepReport UkfFilter::step(const Observation& y) {
     const Eigen::MatrixXd Zs = obs.selectRows(Z);
     const Eigen::VectorXd zMean = Zs * w;
     const Eigen::MatrixXd dZ = unscale * (Zs.colwise() - zMean);
-    const Eigen::MatrixXd Pxz = dX * w.asDiagonal() * dZ.transpose();
+    Eigen::MatrixXd Pxz;
+    multiply(dX, w.asDiagonal() * dZ.transpose(), Pxz);
     const Eigen::MatrixXd Pz = dZ * w.asDiagonal() * dZ.transpose() + obs.covariance();
     const Eigen::VectorXd innovation = obs.values() - zMean;
     // With Pz = C C^T and G = C^-1 Pxz^T: K nu = G^T C^-1 nu and K Pxz^T = G^T G, which keeps the
@@ -88,7 +93,7 @@ FilterStepReport UkfFilter::step(const Observation& y) {
     const auto Cl = C.triangularView<Eigen::Lower>();
     const Eigen::MatrixXd G = Cl.solve(Pxz.transpose());
     x_ += G.transpose() * Cl.solve(innovation);
-    P_ -= G.transpose() * G;
+    subtractGram(G, P_);
     report.innovationSquaredNorm = innovation.squaredNorm();
     report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
     report.predictedObservationTrace = dZ.colwise().squaredNorm().transpose().dot(w);  // tr(Pz - R)

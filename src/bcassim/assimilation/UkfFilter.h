@@ -3,6 +3,7 @@
 #pragma once
 #include <vector>
 
+#include "bcassim/assimilation/DenseAlgebra.h"
 #include "bcassim/assimilation/Filter.h"
 #include "bcassim/assimilation/FilterOptions.h"
 #include "bcassim/assimilation/ForecastEnsemble.h"
@@ -48,6 +49,8 @@ class UkfFilter final : public Filter {
   ForecastEnsemble ensemble_;
   UkfOptions options_;
   SigmaPointSet sigma_;
+  DenseAlgebra localAlgebra_;
+  DenseAlgebra* algebra_;  // the distribution's shared algebra, or localAlgebra_
   Eigen::VectorXd x_;
   Eigen::MatrixXd P_;
 };

@@ -186,6 +186,13 @@ class AssimilateCommand : public Command {
         "sending the mean\n",
         1e-6 * t.sentBytes / n, 1e-6 * t.receivedBytes / n, 1e3 * t.sendSeconds / n,
         1e3 * t.receiveSeconds / n, 1e3 * t.endStepSeconds / n);
+    if (t.grams > 0 || t.factorizations > 0)
+      fmt::print(
+          "MPI: shared algebra per step: Gram matrix {:.3g} ms ({:.4g} MB reduced), Cholesky "
+          "{:.3g} "
+          "ms ({} factorisation{}, {:.4g} MB to and from the grid)\n",
+          1e3 * t.gramSeconds / n, 1e-6 * t.gramBytes / n, 1e3 * t.choleskySeconds / n,
+          t.factorizations, t.factorizations == 1 ? "" : "s", 1e-6 * t.choleskyBytes / n);
   }
 
   // A worker rank: the same scene and models, silent; its errors go to rank 0, which prints

@@ -53,7 +53,8 @@ MpiForecastDistribution::MpiForecastDistribution(
     : size_(session.size()),
       describeEnd_(std::move(describeEnd)),
       sent_(static_cast<size_t>(session.size())),
-      pending_(static_cast<size_t>(session.size()), false) {
+      pending_(static_cast<size_t>(session.size()), false),
+      cholesky_(session.size()) {
   updateEndNotice();
 }
 
@@ -166,6 +167,41 @@ void MpiForecastDistribution::endStep(const Eigen::VectorXd& mean) {
     stats_.sentBytes += 8.0 * static_cast<double>(mean.size());
   }
   stats_.endStepSeconds += secondsSince(start);
+}
+
+void MpiForecastDistribution::weightedGram(const Eigen::MatrixXd& deviations,
+                                           const Eigen::VectorXd& w, double scale,
+                                           Eigen::MatrixXd& P) {
+  const Clock::time_point start = Clock::now();
+  const std::vector<Block> b = blocks(static_cast<int>(deviations.cols()));
+  Eigen::VectorXd payload;
+  for (int r = 1; r < size_; ++r) {
+    const Block& mine = b[static_cast<size_t>(r)];
+    sendHeader({proto::kGram, step_, static_cast<std::int32_t>(deviations.rows()), mine.count}, r);
+    payload.resize(mine.count + 1);
+    payload << scale, w.segment(mine.first, mine.count);
+    checkMpi(MPI_Send(payload.data(), static_cast<int>(payload.size()), MPI_DOUBLE, r,
+                      proto::kCommandPayloadTag, MPI_COMM_WORLD),
+             fmt::format("sending the weights of the Gram matrix to rank {}", r));
+  }
+  P.resize(deviations.rows(), deviations.rows());
+  reduceSharedGram(deviations, w, b, P);
+  ++stats_.grams;
+  stats_.gramSeconds += secondsSince(start);
+  stats_.gramBytes += 8.0 * static_cast<double>(P.size());
+}
+
+bool MpiForecastDistribution::choleskyLower(const Eigen::MatrixXd& A, Eigen::MatrixXd& L) {
+  const Clock::time_point start = Clock::now();
+  const auto n = static_cast<std::int32_t>(A.rows());
+  for (int r = 1; r < size_; ++r) sendHeader({proto::kCholesky, step_, n, n}, r);
+  L.resize(n, n);
+  const bool factored = cholesky_.factor(n, A.data(), L.data());
+  if (factored) L.triangularView<Eigen::StrictlyUpper>().setZero();
+  ++stats_.factorizations;
+  stats_.choleskySeconds += secondsSince(start);
+  stats_.choleskyBytes += cholesky_.lastRootBytes();
+  return factored;
 }
 
 // Answers owed after an exception between send() and receive(): read and dropped, so that no

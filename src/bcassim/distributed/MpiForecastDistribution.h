@@ -6,8 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "bcassim/assimilation/DenseAlgebra.h"
 #include "bcassim/assimilation/ForecastDistribution.h"
 #include "bcassim/distributed/MpiSession.h"
+#include "bcassim/distributed/ScalapackCholesky.h"
+#include "bcassim/distributed/SharedGram.h"
 
 namespace bcassim {
 
@@ -18,9 +21,15 @@ struct MpiTransferStats {
   double sendSeconds = 0;                   // rank 0 in send(): columns out
   double receiveSeconds = 0;                // rank 0 in receive(): waiting and columns in
   double endStepSeconds = 0;                // rank 0 sending the analysed mean
+  // The filter's shared dense algebra (a full-state UKF): rank 0's wall time in the Gram
+  // matrices (its own block, the reduction, the shifts to the mean) and the Cholesky factors (A
+  // out to the grid, pdpotrf, L back), and the bytes rank 0 took part in moving for them.
+  int grams = 0, factorizations = 0;
+  double gramSeconds = 0, choleskySeconds = 0;
+  double gramBytes = 0, choleskyBytes = 0;
 };
 
-class MpiForecastDistribution final : public ForecastDistribution {
+class MpiForecastDistribution final : public ForecastDistribution, public DenseAlgebra {
  public:
   // On rank 0 of `session`, whose other ranks run MpiForecastServer::serve. `describeEnd(step,
   // ranks)` words the line printed if the job is ended during `step` while `ranks` (e.g. "2" or
@@ -37,14 +46,18 @@ class MpiForecastDistribution final : public ForecastDistribution {
   void send(const Eigen::MatrixXd& points) override;
   void receive(Eigen::MatrixXd& forecasts, Eigen::MatrixXd& observables) override;
   void endStep(const Eigen::VectorXd& mean) override;
+  // With more than one rank: the Gram matrix reduced over the ranks' blocks (SharedGram.h) and
+  // the Cholesky factor computed by all of them (ScalapackCholesky.h).
+  DenseAlgebra* sharedAlgebra() override { return size_ > 1 ? this : nullptr; }
+  void weightedGram(const Eigen::MatrixXd& deviations, const Eigen::VectorXd& w, double scale,
+                    Eigen::MatrixXd& P) override;
+  bool choleskyLower(const Eigen::MatrixXd& A, Eigen::MatrixXd& L) override;
 
   // Totals since the start (payload bytes and rank 0's wall time in each call).
   const MpiTransferStats& stats() const { return stats_; }
 
  private:
-  struct Block {
-    int first = 0, count = 0;
-  };
+  using Block = ColumnBlock;
   std::vector<Block> blocks(int columns) const;
   void updateEndNotice();
   void drain() noexcept;
@@ -55,6 +68,7 @@ class MpiForecastDistribution final : public ForecastDistribution {
   std::vector<Block> sent_;    // per rank: the columns it was given this step
   std::vector<bool> pending_;  // per rank: its answer is still owed
   MpiTransferStats stats_;
+  ScalapackCholesky cholesky_;
 };
 
 }  // namespace bcassim

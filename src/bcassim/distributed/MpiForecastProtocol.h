@@ -7,7 +7,11 @@
 namespace bcassim::mpi_protocol {
 
 // Rank 0 -> worker: {command, step, rows, columns}, then rows x columns doubles (none for Stop).
-enum Command : std::int32_t { kForecast = 1, kEndStep = 2, kStop = 3 };
+// Gram: {kGram, step, state rows, the worker's columns}, then the deviations' scale and the
+// columns' weights (columns + 1 doubles); the worker adds its block's Gram matrix into rank 0's
+// (SharedGram.h). Cholesky: {kCholesky, step, n, n}, no payload; every rank joins the
+// factorisation (ScalapackCholesky.h).
+enum Command : std::int32_t { kForecast = 1, kEndStep = 2, kStop = 3, kGram = 4, kCholesky = 5 };
 // Worker -> rank 0: {kOk, rows, observable rows, columns}, then the forecasts and the observables
 // as two payloads; or {error kind, text length, 0, 0}, then the text.
 enum Answer : std::int32_t {

@@ -9,6 +9,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/distributed/MpiForecastProtocol.h"
+#include "bcassim/distributed/SharedGram.h"
 
 namespace bcassim {
 
@@ -50,7 +51,7 @@ void sendAnswer(const proto::Header& h) {
 }  // namespace
 
 MpiForecastServer::MpiForecastServer(const MpiSession& session)
-    : rank_(session.rank()), killAtStep_(killStepFor(session.rank())) {}
+    : rank_(session.rank()), killAtStep_(killStepFor(session.rank())), cholesky_(session.size()) {}
 
 void MpiForecastServer::serve(ForecastEnsemble& ensemble) { serveUntilStop(&ensemble); }
 
@@ -67,7 +68,7 @@ void MpiForecastServer::answerError() const {
 }
 
 void MpiForecastServer::serveUntilStop(ForecastEnsemble* ensemble) {
-  Eigen::MatrixXd points, forecasts, observables;
+  Eigen::MatrixXd points, forecasts, observables, gram;
   Eigen::VectorXd mean;
   for (;;) {
     proto::Header h{};
@@ -87,6 +88,21 @@ void MpiForecastServer::serveUntilStop(ForecastEnsemble* ensemble) {
       } catch (...) {
         failure_ = describe(std::current_exception());
       }
+      continue;
+    }
+    // The shared algebra: joined whatever this rank's state, so that no collective hangs.
+    if (h[0] == proto::kCholesky) {
+      cholesky_.factor(h[2], nullptr, nullptr);
+      continue;
+    }
+    if (h[0] == proto::kGram) {
+      Eigen::VectorXd payload(h[3] + 1);
+      checkMpi(MPI_Recv(payload.data(), h[3] + 1, MPI_DOUBLE, 0, proto::kCommandPayloadTag,
+                        MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+               "receiving the weights of the Gram matrix");
+      const bool have = !failure_ && forecasts.rows() == h[2] && forecasts.cols() == h[3];
+      contributeBlockGram(forecasts, have ? payload.tail(h[3]) : Eigen::VectorXd(), payload[0],
+                          h[2], gram);
       continue;
     }
     points.resize(h[2], h[3]);

@@ -8,6 +8,7 @@
 
 #include "bcassim/assimilation/ForecastEnsemble.h"
 #include "bcassim/distributed/MpiSession.h"
+#include "bcassim/distributed/ScalapackCholesky.h"
 
 namespace bcassim {
 
@@ -33,6 +34,7 @@ class MpiForecastServer {
   int rank_;
   int killAtStep_ = -1;                                          // BCASSIM_TEST_MPI_KILL
   std::optional<std::pair<std::int32_t, std::string>> failure_;  // answered to every forecast
+  ScalapackCholesky cholesky_;
 };
 
 }  // namespace bcassim

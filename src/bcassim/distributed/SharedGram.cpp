@@ -1,0 +1,58 @@
+#include "bcassim/distributed/SharedGram.h"
+
+#include <mpi.h>
+
+#include "bcassim/assimilation/LargeDenseKernels.h"
+#include "bcassim/distributed/MpiSession.h"
+
+namespace bcassim {
+
+namespace {
+
+void reduceToRoot(const void* send, double* receive, Eigen::Index size) {
+  checkMpi(
+      MPI_Reduce(send, receive, static_cast<int>(size), MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD),
+      "adding the ranks' Gram matrices");
+}
+
+}  // namespace
+
+void contributeBlockGram(const Eigen::MatrixXd& forecasts, const Eigen::VectorXd& w, double scale,
+                         Eigen::Index rows, Eigen::MatrixXd& workspace) {
+  Eigen::MatrixXd& G = workspace;
+  if (w.size() > 0) {
+    const Eigen::MatrixXd D = scale * (forecasts.colwise() - forecasts.col(0));
+    weightedGramLower(D, w, G);
+  } else {
+    G.setZero(rows, rows);
+  }
+  reduceToRoot(G.data(), nullptr, G.size());
+}
+
+void reduceSharedGram(const Eigen::MatrixXd& deviations, const Eigen::VectorXd& w,
+                      const std::vector<ColumnBlock>& blocks, Eigen::MatrixXd& P) {
+  const Eigen::Index n = deviations.rows();
+  const ColumnBlock own = blocks.at(0);
+  // Lower triangles only until the end (the upper ones are summed, never read).
+  weightedGramLower(deviations.middleCols(own.first, own.count), w.segment(own.first, own.count),
+                    P);
+  reduceToRoot(MPI_IN_PLACE, P.data(), P.size());
+  // Rank r's G_r is about d = its first column: sum_j w_j d_j d_j^T = G_r + s d^T + d s^T +
+  // W d d^T with s = sum_j w_j (d_j - d) and W = sum_j w_j, one product for every block.
+  Eigen::MatrixXd U(n, 0), V(n, 0);
+  for (size_t r = 1; r < blocks.size(); ++r) {
+    const ColumnBlock& b = blocks[r];
+    if (b.count == 0) continue;
+    const Eigen::VectorXd d = deviations.col(b.first);
+    const Eigen::VectorXd wb = w.segment(b.first, b.count);
+    const Eigen::VectorXd s = deviations.middleCols(b.first, b.count) * wb - wb.sum() * d;
+    U.conservativeResize(n, U.cols() + 2);
+    V.conservativeResize(n, V.cols() + 2);
+    U.rightCols(2) << s, d;
+    V.rightCols(2) << d, s + wb.sum() * d;
+  }
+  if (U.cols() > 0) P.triangularView<Eigen::Lower>() += U * V.transpose();
+  P.triangularView<Eigen::StrictlyUpper>() = P.transpose();
+}
+
+}  // namespace bcassim
