@@ -56,6 +56,10 @@ for config in "1 1" "1 2" "2 1" "2 2"; do
   run liver "$OUT/liver/estimate.yaml" $config
 done
 "${MPIRUN[@]}" -np 2 "$BUILD/bench/bench_mpi_transfer" > "$OUT/transfer.txt"
+# The UKF's dense algebra alone and shared by 2 ranks, one BLAS thread per rank.
+OPENBLAS_NUM_THREADS=1 "$BUILD/bench/bench_dense_algebra" > "$OUT/dense.txt"
+OPENBLAS_NUM_THREADS=1 "${MPIRUN[@]}" -x OPENBLAS_NUM_THREADS -np 2 \
+  "$BUILD/bench/bench_dense_algebra" >> "$OUT/dense.txt"
 fi
 
 python3 - "$OUT" <<'PY'
@@ -66,6 +70,9 @@ def steps(name, config, pick=statistics.median):
     rows = list(csv.DictReader(open(f"{out}/runs/{name}-{config}/timing.csv")))[1:]  # step 1: set-up
     med = lambda k: pick(float(r[k]) for r in rows)
     return med("total_ms"), med("forecast_ms"), med("correction_ms")
+
+def steps_of(name, config):
+    return len(list(csv.DictReader(open(f"{out}/runs/{name}-{config}/timing.csv"))))
 
 def final(name, config):
     rows = list(csv.DictReader(open(f"{out}/runs/{name}-{config}/estimates.csv")))
@@ -126,7 +133,60 @@ def model(name, S, n, m):
                          f"efficiency {e:.2f}, forecasts' {ef:.2f}")
         print(f"  {label}:\n    " + "\n    ".join(cells))
 
-model("ukf", 2792, 2791, 45)
+# The full-state UKF shares its dense algebra (SharedGram.h, ScalapackCholesky.h), so its model
+# splits rank 0's work: A' what only rank 0 does (sigma points, deviations, the correction's
+# small products, sends and receives), measured at 2 ranks as the step minus forecasts, Gram
+# and Cholesky; the Gram matrix: g per column on every rank, then ceil(log2 R) reduction stages
+# (the 62 MB matrix over the link plus the sum, the sum measured at 2 ranks); every Cholesky
+# factorisation: rank 0 packing A and unpacking L (measured), A and L over the link, pdpotrf's
+# flops shared by R and its panels broadcast ceil(log2 R) times (ScaLAPACK on one rank measured).
+def ukf_shared_model(S, n, m):
+    dense = {}
+    for line in open(f"{out}/dense.txt"):
+        mm = re.search(r"ranks (\d+).*gram ([0-9.]+) ms, reduce ([0-9.]+) ms, cholesky ([0-9.]+) ms "
+                       r"\(ScaLAPACK: pdpotrf ([0-9.]+) ms, moving A and L ([0-9.]+) ms", line)
+        if mm:
+            dense[int(mm.group(1))] = [float(v) / 1e3 for v in mm.groups()[1:]]
+    gram1, _, chol1, pdpotrf1, moves1 = dense[1]
+    reduce2 = dense[2][1]
+    total1, forecast1, _ = steps("ukf", "1x1")
+    total2, forecast2, _ = steps("ukf", "2x1")
+    text = open(f"{out}/runs/ukf-2x1.txt").read()
+    shared = re.search(r"Gram matrix ([0-9.]+) ms .*Cholesky ([0-9.]+) ms \((\d+) factorisations?",
+                       text)
+    gram2, chol2 = float(shared.group(1)) / 1e3, float(shared.group(2)) / 1e3
+    c = int(shared.group(3)) / steps_of("ukf", "2x1")
+    T1, F1, T2, F2 = total1 / 1e3, forecast1 / 1e3, total2 / 1e3, forecast2 / 1e3
+    t, g = F1 / S, gram1 / S
+    A = max(T2 - F2 - gram2 - chol2, 0.0)
+    stage_sum = max(reduce2 - 8 * n * n / bandwidth, 0.0)
+    print(f"\nukf model (shared algebra): S {S}, n {n}, m {m}, t {1e3 * t:.3f} ms per sigma point, "
+          f"A' {1e3 * A:.1f} ms rank 0's own work (2x1 step {1e3 * T2:.0f} - forecasts "
+          f"{1e3 * F2:.0f} - Gram {1e3 * gram2:.0f} - Cholesky {1e3 * chol2:.0f}), Gram "
+          f"{1e3 * g:.3f} ms per column, reduction's sum {1e3 * stage_sum:.1f} ms per stage, "
+          f"{c:.1f} factorisations per step, ScaLAPACK on one rank {1e3 * pdpotrf1:.0f} ms "
+          f"(LAPACK {1e3 * chol1:.0f}), packing {1e3 * moves1:.0f} ms")
+    for label, L, W in [("this machine (shared memory)", latency, bandwidth),
+                        ("cluster (L 2 us, W 12 GB/s: 100 Gb/s InfiniBand)", 2e-6, 12e9),
+                        ("cluster (L 20 us, W 1.25 GB/s: 10 Gb/s Ethernet)", 20e-6, 1.25e9)]:
+        cells = []
+        for R in [2, 8, 64, 512]:
+            per = math.ceil(S / R)
+            busy = min(R, S)
+            stages = math.ceil(math.log2(R))
+            C = (3 * (busy - 1) * L + (8 * n + 8 * (n + m)) * (S - per) / W
+                 + (R - 1) * (L + 8 * n / W))
+            gram = per * g + stages * (L + 8 * n * n / W + stage_sum)
+            chol = (moves1 + 2 * 8 * n * n * (R - 1) / (R * W) + pdpotrf1 / R
+                    + math.ceil(n / 128) * stages * (2 * L + 8 * n * 128 / (math.sqrt(R) * W)))
+            T = A + per * t + gram + c * chol + C
+            cells.append(f"R={R}: step {1e3 * T:.0f} ms (forecasts {1e3 * per * t:.0f}, Gram "
+                         f"{1e3 * gram:.0f}, Cholesky {1e3 * c * chol:.0f}, transfers {1e3 * C:.1f}), "
+                         f"efficiency {T1 / (R * T):.2f}")
+        print(f"  {label}:\n    " + "\n    ".join(cells))
+    print(f"  measured at 2x1 on this machine: step {1e3 * T2:.0f} ms, efficiency {T1 / (2 * T2):.2f}")
+
+ukf_shared_model(2792, 2791, 45)
 # The liver: positions and velocities of every node and P spring groups, P + 1 simplex points.
 scene_line = open(f"{out}/runs/liver-1x1.txt").read()
 nodes, markers, P = map(int, re.search(

@@ -14,7 +14,9 @@ Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log,
   DenseAlgebra here;
   DenseAlgebra& kernels = algebra != nullptr ? *algebra : here;
   Eigen::MatrixXd L;
-  if (kernels.choleskyLower(P, L)) return L;
+  // A diagonal entry <= 0 fails any Cholesky factorisation at its pivot: straight to the repair
+  // (the same result, one factorisation less; a full-state UKF's fixed nodes have zero variance).
+  if ((P.diagonal().array() > 0.0).all() && kernels.choleskyLower(P, L)) return L;
 
   const Eigen::Index n = P.rows();
   Eigen::MatrixXd S = 0.5 * (P + P.transpose());

@@ -60,8 +60,9 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   if (noiseFirst) P_.diagonal() += options_.processVariance;
 
   // Prediction (Alg. 1 lines 9-14).
-  const Eigen::MatrixXd X =
-      sigma_.points(x_, options_.spread * choleskyWithRepair(P_, repairs, algebra_));
+  Eigen::MatrixXd factor = choleskyWithRepair(P_, repairs, algebra_);
+  factor *= options_.spread;  // in place: no second n x n matrix
+  const Eigen::MatrixXd X = sigma_.points(x_, factor);
   Eigen::MatrixXd Xf, O, Z;
   const auto forecastStart = Clock::now();
   ensemble_.forecast(X, Xf, O);
