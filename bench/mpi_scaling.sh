@@ -81,8 +81,7 @@ def final(name, config):
 
 def mpi_line(name, config):
     text = open(f"{out}/runs/{name}-{config}.txt").read()
-    m = re.search(r"^MPI: .*$", text, re.M)
-    return m.group(0) if m else ""
+    return " ".join(re.findall(r"^MPI: .*$", text, re.M))
 
 transfer = open(f"{out}/transfer.txt").read()
 print(transfer)
@@ -138,16 +137,18 @@ def model(name, S, n, m):
 # small products, sends and receives), measured at 2 ranks as the step minus forecasts, Gram
 # and Cholesky; the Gram matrix: g per column on every rank, then ceil(log2 R) reduction stages
 # (the 62 MB matrix over the link plus the sum, the sum measured at 2 ranks); every Cholesky
-# factorisation: rank 0 packing A and unpacking L (measured), A and L over the link, pdpotrf's
+# factorisation: rank 0 packing A and unpacking L (measured), MPI's copy of rank 0's own piece
+# (1/R of the one-rank move), A and L over the link, pdpotrf's
 # flops shared by R and its panels broadcast ceil(log2 R) times (ScaLAPACK on one rank measured).
 def ukf_shared_model(S, n, m):
     dense = {}
     for line in open(f"{out}/dense.txt"):
         mm = re.search(r"ranks (\d+).*gram ([0-9.]+) ms, reduce ([0-9.]+) ms, cholesky ([0-9.]+) ms "
-                       r"\(ScaLAPACK: pdpotrf ([0-9.]+) ms, moving A and L ([0-9.]+) ms", line)
+                       r"\(ScaLAPACK: pdpotrf ([0-9.]+) ms, moving A and L ([0-9.]+) ms, of which "
+                       r"packing ([0-9.]+) ms", line)
         if mm:
             dense[int(mm.group(1))] = [float(v) / 1e3 for v in mm.groups()[1:]]
-    gram1, _, chol1, pdpotrf1, moves1 = dense[1]
+    gram1, _, chol1, pdpotrf1, moves1, pack1 = dense[1]
     reduce2 = dense[2][1]
     total1, forecast1, _ = steps("ukf", "1x1")
     total2, forecast2, _ = steps("ukf", "2x1")
@@ -165,7 +166,8 @@ def ukf_shared_model(S, n, m):
           f"{1e3 * F2:.0f} - Gram {1e3 * gram2:.0f} - Cholesky {1e3 * chol2:.0f}), Gram "
           f"{1e3 * g:.3f} ms per column, reduction's sum {1e3 * stage_sum:.1f} ms per stage, "
           f"{c:.1f} factorisations per step, ScaLAPACK on one rank {1e3 * pdpotrf1:.0f} ms "
-          f"(LAPACK {1e3 * chol1:.0f}), packing {1e3 * moves1:.0f} ms")
+          f"(LAPACK {1e3 * chol1:.0f}), moving A and L on one rank {1e3 * moves1:.0f} ms, of which "
+          f"packing {1e3 * pack1:.0f} ms")
     for label, L, W in [("this machine (shared memory)", latency, bandwidth),
                         ("cluster (L 2 us, W 12 GB/s: 100 Gb/s InfiniBand)", 2e-6, 12e9),
                         ("cluster (L 20 us, W 1.25 GB/s: 10 Gb/s Ethernet)", 20e-6, 1.25e9)]:
@@ -177,7 +179,8 @@ def ukf_shared_model(S, n, m):
             C = (3 * (busy - 1) * L + (8 * n + 8 * (n + m)) * (S - per) / W
                  + (R - 1) * (L + 8 * n / W))
             gram = per * g + stages * (L + 8 * n * n / W + stage_sum)
-            chol = (moves1 + 2 * 8 * n * n * (R - 1) / (R * W) + pdpotrf1 / R
+            # rank 0 packs and unpacks every piece; MPI copies its own 1/R; the rest crosses the link
+            chol = (pack1 + (moves1 - pack1) / R + 2 * 8 * n * n * (R - 1) / (R * W) + pdpotrf1 / R
                     + math.ceil(n / 128) * stages * (2 * L + 8 * n * 128 / (math.sqrt(R) * W)))
             T = A + per * t + gram + c * chol + C
             cells.append(f"R={R}: step {1e3 * T:.0f} ms (forecasts {1e3 * per * t:.0f}, Gram "

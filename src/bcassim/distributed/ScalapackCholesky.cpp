@@ -116,6 +116,7 @@ bool ScalapackCholesky::factor(int n, const double* A, double* L) {
       copyPiece(n, r, const_cast<double*>(A), packed.data() + offsets[static_cast<size_t>(r)],
                 true);
   }
+  lastPackSeconds_ = secondsSince(start);
   checkMpi(MPI_Scatterv(packed.data(), counts.data(), offsets.data(), MPI_DOUBLE, local.data(),
                         localRows * localCols, MPI_DOUBLE, 0, MPI_COMM_WORLD),
            "sending the covariance's blocks to the ranks");
@@ -130,9 +131,11 @@ bool ScalapackCholesky::factor(int n, const double* A, double* L) {
   checkMpi(MPI_Gatherv(local.data(), localRows * localCols, MPI_DOUBLE, packed.data(),
                        counts.data(), offsets.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD),
            "gathering the Cholesky factor's blocks");
+  const Clock::time_point gathered = Clock::now();
   if (isRoot)
     for (int r = 0; r < ranks_; ++r)
       copyPiece(n, r, L, packed.data() + offsets[static_cast<size_t>(r)], false);
+  lastPackSeconds_ += secondsSince(gathered);
   lastMoveSeconds_ += secondsSince(factored);
   lastRootBytes_ = isRoot ? 2.0 * 8.0 * (offsets.back() + counts.back() - counts[0]) : 0.0;
   return true;

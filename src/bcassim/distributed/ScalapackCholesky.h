@@ -19,8 +19,10 @@ class ScalapackCholesky {
 
   // Bytes rank 0 sent to and received from the grid in the last factor() (its share of A, L).
   double lastRootBytes() const { return lastRootBytes_; }
-  // Wall seconds of the last factor() in moving A out and L back, and in pdpotrf itself.
+  // Wall seconds of the last factor() in moving A out and L back (of which rank 0's packing and
+  // unpacking of the pieces), and in pdpotrf itself.
   double lastMoveSeconds() const { return lastMoveSeconds_; }
+  double lastPackSeconds() const { return lastPackSeconds_; }
   double lastFactorSeconds() const { return lastFactorSeconds_; }
 
  private:
@@ -33,7 +35,8 @@ class ScalapackCholesky {
   int grid_ = -1;  // the pr x pc grid of every rank
   int rows_ = 1, cols_ = 1, myRow_ = 0, myCol_ = 0;
   std::vector<double> local_, packed_;  // this rank's piece; on rank 0 every rank's, packed
-  double lastRootBytes_ = 0, lastMoveSeconds_ = 0, lastFactorSeconds_ = 0;
+  double lastRootBytes_ = 0, lastMoveSeconds_ = 0, lastPackSeconds_ = 0;
+  double lastFactorSeconds_ = 0;
 };
 
 }  // namespace bcassim
