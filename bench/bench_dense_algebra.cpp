@@ -2,8 +2,8 @@
 // (docs/benchmarks.md §8): the Gram matrix of S deviations of n rows and the Cholesky factor of
 // an n x n covariance, alone (R = 1: the system BLAS/LAPACK, as the threaded filter runs them)
 // or shared as `assimilate --mpi` shares them (SharedGram.h, ScalapackCholesky.h), with the
-// bare MPI_Reduce of the n x n matrix. Medians of 5 after one warm-up; the shared results are
-// checked against rank 0's own (largest entry difference over the largest entry).
+// bare MPI_Reduce of the n x n matrix's lower triangle. Medians of 5 after one warm-up; the shared
+// results are checked against rank 0's own (largest entry difference over the largest entry).
 // Usage: mpirun -np R bench_dense_algebra [n=2791] [S=2792]
 #include <mpi.h>
 
@@ -61,7 +61,9 @@ int main(int argc, char** argv) {
   const Eigen::MatrixXd myForecasts = deviations.middleCols(mine.first, mine.count);
   const Eigen::VectorXd myWeights = w.segment(mine.first, mine.count);
 
-  Eigen::MatrixXd alone, shared, workspace;
+  Eigen::MatrixXd alone, shared;
+  bcassim::SharedGramWorkspace workspace;
+  Eigen::VectorXd packed;
   if (rank == 0) bcassim::weightedGram(deviations, w, alone);
   double gram = 0;
   if (size == 1) {
@@ -70,16 +72,18 @@ int main(int argc, char** argv) {
     gram = medianSeconds([&] {
       if (rank == 0) {
         shared.resize(n, n);
-        bcassim::reduceSharedGram(deviations, w, blocks, shared);
+        bcassim::reduceSharedGram(deviations, w, blocks, shared, packed);
       } else {
         bcassim::contributeBlockGram(myForecasts, myWeights, 1.0, n, workspace);
       }
     });
   }
-  Eigen::MatrixXd buffer = Eigen::MatrixXd::Zero(n, n);
+  // The reduction alone, of what travels: the lower triangle.
+  const int triangle = n * (n + 1) / 2;
+  Eigen::VectorXd buffer = Eigen::VectorXd::Zero(triangle);
   const double reduce = size == 1 ? 0.0 : medianSeconds([&] {
-    MPI_Reduce(rank == 0 ? MPI_IN_PLACE : buffer.data(), rank == 0 ? buffer.data() : nullptr, n * n,
-               MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(rank == 0 ? MPI_IN_PLACE : buffer.data(), rank == 0 ? buffer.data() : nullptr,
+               triangle, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
   });
 
   // A covariance like the filter's: the Gram matrix plus a small diagonal.

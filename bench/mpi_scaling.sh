@@ -135,8 +135,9 @@ def model(name, S, n, m):
 # The full-state UKF shares its dense algebra (SharedGram.h, ScalapackCholesky.h), so its model
 # splits rank 0's work: A' what only rank 0 does (sigma points, deviations, the correction's
 # small products, sends and receives), measured at 2 ranks as the step minus forecasts, Gram
-# and Cholesky; the Gram matrix: g per column on every rank, then ceil(log2 R) reduction stages
-# (the 62 MB matrix over the link plus the sum, the sum measured at 2 ranks); every Cholesky
+# and Cholesky; the Gram matrix: g per column on every rank, rank 0's packing, shifts and mirror
+# (measured at 2 ranks), then ceil(log2 R) reduction stages (the lower triangle, 31 MB, over the
+# link plus the sum, the sum measured at 2 ranks); every Cholesky
 # factorisation: rank 0 packing A and unpacking L (measured), MPI's copy of rank 0's own piece
 # (1/R of the one-rank move), A and L over the link, pdpotrf's
 # flops shared by R and its panels broadcast ceil(log2 R) times (ScaLAPACK on one rank measured).
@@ -160,11 +161,15 @@ def ukf_shared_model(S, n, m):
     T1, F1, T2, F2 = total1 / 1e3, forecast1 / 1e3, total2 / 1e3, forecast2 / 1e3
     t, g = F1 / S, gram1 / S
     A = max(T2 - F2 - gram2 - chol2, 0.0)
-    stage_sum = max(reduce2 - 8 * n * n / bandwidth, 0.0)
+    half = 8 * n * (n + 1) / 2  # bytes of the lower triangle, as it travels
+    stage_sum = max(reduce2 - half / bandwidth, 0.0)
+    # rank 0's own part beyond its block's Gram and the reduction: packing, shifts, mirror
+    gram0 = max(gram2 - math.ceil(S / 2) * g - reduce2, 0.0)
     print(f"\nukf model (shared algebra): S {S}, n {n}, m {m}, t {1e3 * t:.3f} ms per sigma point, "
           f"A' {1e3 * A:.1f} ms rank 0's own work (2x1 step {1e3 * T2:.0f} - forecasts "
           f"{1e3 * F2:.0f} - Gram {1e3 * gram2:.0f} - Cholesky {1e3 * chol2:.0f}), Gram "
-          f"{1e3 * g:.3f} ms per column, reduction's sum {1e3 * stage_sum:.1f} ms per stage, "
+          f"{1e3 * g:.3f} ms per column, reduction's sum {1e3 * stage_sum:.1f} ms per stage, rank 0's "
+          f"packing, shifts and mirror {1e3 * gram0:.0f} ms, "
           f"{c:.1f} factorisations per step, ScaLAPACK on one rank {1e3 * pdpotrf1:.0f} ms "
           f"(LAPACK {1e3 * chol1:.0f}), moving A and L on one rank {1e3 * moves1:.0f} ms, of which "
           f"packing {1e3 * pack1:.0f} ms")
@@ -178,7 +183,7 @@ def ukf_shared_model(S, n, m):
             stages = math.ceil(math.log2(R))
             C = (3 * (busy - 1) * L + (8 * n + 8 * (n + m)) * (S - per) / W
                  + (R - 1) * (L + 8 * n / W))
-            gram = per * g + stages * (L + 8 * n * n / W + stage_sum)
+            gram = per * g + gram0 + stages * (L + half / W + stage_sum)
             # rank 0 packs and unpacks every piece; MPI copies its own 1/R; the rest crosses the link
             chol = (pack1 + (moves1 - pack1) / R + 2 * 8 * n * n * (R - 1) / (R * W) + pdpotrf1 / R
                     + math.ceil(n / 128) * stages * (2 * L + 8 * n * 128 / (math.sqrt(R) * W)))

@@ -185,10 +185,10 @@ void MpiForecastDistribution::weightedGram(const Eigen::MatrixXd& deviations,
              fmt::format("sending the weights of the Gram matrix to rank {}", r));
   }
   P.resize(deviations.rows(), deviations.rows());
-  reduceSharedGram(deviations, w, b, P);
+  reduceSharedGram(deviations, w, b, P, packedGram_);
   ++stats_.grams;
   stats_.gramSeconds += secondsSince(start);
-  stats_.gramBytes += 8.0 * static_cast<double>(P.size());
+  stats_.gramBytes += 8.0 * static_cast<double>(packedGram_.size());
 }
 
 bool MpiForecastDistribution::choleskyLower(const Eigen::MatrixXd& A, Eigen::MatrixXd& L) {

@@ -69,6 +69,7 @@ class MpiForecastDistribution final : public ForecastDistribution, public DenseA
   std::vector<bool> pending_;  // per rank: its answer is still owed
   MpiTransferStats stats_;
   ScalapackCholesky cholesky_;
+  Eigen::VectorXd packedGram_;  // the Gram matrix's lower triangle, reduced
 };
 
 }  // namespace bcassim

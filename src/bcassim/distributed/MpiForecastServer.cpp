@@ -68,7 +68,8 @@ void MpiForecastServer::answerError() const {
 }
 
 void MpiForecastServer::serveUntilStop(ForecastEnsemble* ensemble) {
-  Eigen::MatrixXd points, forecasts, observables, gram;
+  Eigen::MatrixXd points, forecasts, observables;
+  SharedGramWorkspace gram;
   Eigen::VectorXd mean;
   for (;;) {
     proto::Header h{};

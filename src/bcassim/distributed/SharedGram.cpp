@@ -15,28 +15,47 @@ void reduceToRoot(const void* send, double* receive, Eigen::Index size) {
       "adding the ranks' Gram matrices");
 }
 
+// The lower triangle, column by column: half the bytes over the link and half the sums of a
+// reduction of the whole matrix.
+void packLower(const Eigen::MatrixXd& G, Eigen::VectorXd& packed) {
+  const Eigen::Index n = G.rows();
+  packed.resize(n * (n + 1) / 2);
+  for (Eigen::Index j = 0, at = 0; j < n; at += n - j, ++j)
+    packed.segment(at, n - j) = G.col(j).tail(n - j);
+}
+
+void unpackLower(const Eigen::VectorXd& packed, Eigen::MatrixXd& G) {
+  const Eigen::Index n = G.rows();
+  for (Eigen::Index j = 0, at = 0; j < n; at += n - j, ++j)
+    G.col(j).tail(n - j) = packed.segment(at, n - j);
+}
+
 }  // namespace
 
 void contributeBlockGram(const Eigen::MatrixXd& forecasts, const Eigen::VectorXd& w, double scale,
-                         Eigen::Index rows, Eigen::MatrixXd& workspace) {
-  Eigen::MatrixXd& G = workspace;
+                         Eigen::Index rows, SharedGramWorkspace& workspace) {
+  Eigen::MatrixXd& G = workspace.gram;
   if (w.size() > 0) {
     const Eigen::MatrixXd D = scale * (forecasts.colwise() - forecasts.col(0));
     weightedGramLower(D, w, G);
   } else {
     G.setZero(rows, rows);
   }
-  reduceToRoot(G.data(), nullptr, G.size());
+  packLower(G, workspace.packed);
+  reduceToRoot(workspace.packed.data(), nullptr, workspace.packed.size());
 }
 
 void reduceSharedGram(const Eigen::MatrixXd& deviations, const Eigen::VectorXd& w,
-                      const std::vector<ColumnBlock>& blocks, Eigen::MatrixXd& P) {
+                      const std::vector<ColumnBlock>& blocks, Eigen::MatrixXd& P,
+                      Eigen::VectorXd& packed) {
   const Eigen::Index n = deviations.rows();
   const ColumnBlock own = blocks.at(0);
   // Lower triangles only until the end (the upper ones are summed, never read).
   weightedGramLower(deviations.middleCols(own.first, own.count), w.segment(own.first, own.count),
                     P);
-  reduceToRoot(MPI_IN_PLACE, P.data(), P.size());
+  packLower(P, packed);
+  reduceToRoot(MPI_IN_PLACE, packed.data(), packed.size());
+  unpackLower(packed, P);
   // Rank r's G_r is about d = its first column: sum_j w_j d_j d_j^T = G_r + s d^T + d s^T +
   // W d d^T with s = sum_j w_j (d_j - d) and W = sum_j w_j, one product for every block.
   Eigen::MatrixXd U(n, 0), V(n, 0);

@@ -54,10 +54,12 @@ int main(int argc, char** argv) {
       blocks[static_cast<size_t>(r)] = {first, count};
       first += count;
     }
-    Eigen::MatrixXd alone, shared(n, n), workspace;
+    Eigen::MatrixXd alone, shared(n, n);
+    bcassim::SharedGramWorkspace workspace;
+    Eigen::VectorXd packed;
     bcassim::weightedGram(deviations, w, alone, 1);  // the BLAS path, whatever n
     if (rank == 0) {
-      bcassim::reduceSharedGram(deviations, w, blocks, shared);
+      bcassim::reduceSharedGram(deviations, w, blocks, shared, packed);
     } else {
       const bcassim::ColumnBlock b = blocks[static_cast<size_t>(rank)];
       bcassim::contributeBlockGram(F.middleCols(b.first, b.count), w.segment(b.first, b.count),
