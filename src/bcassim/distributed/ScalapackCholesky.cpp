@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -87,6 +88,10 @@ void ScalapackCholesky::copyPiece(int n, int rank, double* whole, double* local,
 }
 
 bool ScalapackCholesky::factor(int n, const double* A, double* L) {
+  // MPI counts and offsets are int: n^2 entries must fit.
+  if (static_cast<long long>(n) * n > std::numeric_limits<int>::max())
+    throw std::runtime_error(fmt::format(
+        "a covariance of {} rows is too large to share over MPI (n^2 over 2^31 entries)", n));
   if (!gridsMade_) makeGrids();
   const int zero = 0, one = 1;
   const bool isRoot = A != nullptr;
@@ -111,7 +116,7 @@ bool ScalapackCholesky::factor(int n, const double* A, double* L) {
   }
   std::vector<double>& packed = packed_;
   if (isRoot) {
-    packed.resize(static_cast<size_t>(offsets.back() + counts.back()));
+    packed.resize(static_cast<size_t>(offsets.back()) + static_cast<size_t>(counts.back()));
     for (int r = 0; r < ranks_; ++r)
       copyPiece(n, r, const_cast<double*>(A), packed.data() + offsets[static_cast<size_t>(r)],
                 true);

@@ -1,6 +1,10 @@
 #include "bcassim/distributed/SharedGram.h"
 
+#include <fmt/format.h>
 #include <mpi.h>
+
+#include <limits>
+#include <stdexcept>
 
 #include "bcassim/assimilation/LargeDenseKernels.h"
 #include "bcassim/distributed/MpiSession.h"
@@ -10,6 +14,9 @@ namespace bcassim {
 namespace {
 
 void reduceToRoot(const void* send, double* receive, Eigen::Index size) {
+  if (size > std::numeric_limits<int>::max())
+    throw std::runtime_error(fmt::format(
+        "a Gram matrix of {} entries is too large to add over MPI (over 2^31 entries)", size));
   checkMpi(
       MPI_Reduce(send, receive, static_cast<int>(size), MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD),
       "adding the ranks' Gram matrices");
