@@ -184,7 +184,6 @@ void MpiForecastDistribution::weightedGram(const Eigen::MatrixXd& deviations,
                       proto::kCommandPayloadTag, MPI_COMM_WORLD),
              fmt::format("sending the weights of the Gram matrix to rank {}", r));
   }
-  P.resize(deviations.rows(), deviations.rows());
   reduceSharedGram(deviations, w, b, P, packedGram_);
   ++stats_.grams;
   stats_.gramSeconds += secondsSince(start);

@@ -5,6 +5,7 @@
 
 #include <csignal>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
 #include "bcassim/Error.h"
@@ -101,9 +102,14 @@ void MpiForecastServer::serveUntilStop(ForecastEnsemble* ensemble) {
       checkMpi(MPI_Recv(payload.data(), h[3] + 1, MPI_DOUBLE, 0, proto::kCommandPayloadTag,
                         MPI_COMM_WORLD, MPI_STATUS_IGNORE),
                "receiving the weights of the Gram matrix");
+      // Rank 0 asks only after every forecast came back; a block this rank does not hold (a
+      // protocol error) adds NaN, so that rank 0 stops on a non-finite covariance instead of
+      // using one without these columns.
       const bool have = !failure_ && forecasts.rows() == h[2] && forecasts.cols() == h[3];
-      contributeBlockGram(forecasts, have ? payload.tail(h[3]) : Eigen::VectorXd(), payload[0],
-                          h[2], gram);
+      const Eigen::MatrixXd missing =
+          have ? Eigen::MatrixXd()
+               : Eigen::MatrixXd::Constant(h[2], h[3], std::numeric_limits<double>::quiet_NaN());
+      contributeBlockGram(have ? forecasts : missing, payload.tail(h[3]), payload[0], h[2], gram);
       continue;
     }
     points.resize(h[2], h[3]);

@@ -60,12 +60,12 @@ void ScalapackCholesky::makeGrids() {
   gridsMade_ = true;
 }
 
-// Rank `rank`'s block-cyclic piece of the n x n column-major `whole` and back: its local matrix
-// (rows x cols, column-major) holds the blocks (I, J) with I = its grid row, J = its grid column
-// modulo the grid; only blocks that reach the lower triangle are copied (pdpotrf("L") reads no
-// other), the rest left as they are.
-void ScalapackCholesky::copyPiece(int n, int rank, double* whole, double* local,
-                                  bool toLocal) const {
+// Rank `rank`'s block-cyclic piece of an n x n column-major matrix: its local matrix (rows x
+// cols, column-major) holds the blocks (I, J) with I = its grid row, J = its grid column modulo
+// the grid. visit(offset in the whole matrix, offset in the piece, length) for every column
+// segment of a block that reaches the lower triangle (pdpotrf("L") reads no other).
+template <typename Visit>
+void ScalapackCholesky::forEachSegment(int n, int rank, Visit&& visit) const {
   const int zero = 0;
   int prow = 0, pcol = 0;
   Cblacs_pcoord(grid_, rank, &prow, &pcol);
@@ -77,12 +77,7 @@ void ScalapackCholesky::copyPiece(int n, int rank, double* whole, double* local,
       const int gi = (li / block_ * rows_ + prow) * block_;
       const int length = std::min(block_, rows - li);
       if (gi + length - 1 < gj) continue;  // above the diagonal
-      double* w = whole + static_cast<size_t>(gj) * n + gi;
-      double* l = local + static_cast<size_t>(lj) * rows + li;
-      if (toLocal)
-        std::copy(w, w + length, l);
-      else
-        std::copy(l, l + length, w);
+      visit(static_cast<size_t>(gj) * n + gi, static_cast<size_t>(lj) * rows + li, length);
     }
   }
 }
@@ -117,9 +112,12 @@ bool ScalapackCholesky::factor(int n, const double* A, double* L) {
   std::vector<double>& packed = packed_;
   if (isRoot) {
     packed.resize(static_cast<size_t>(offsets.back()) + static_cast<size_t>(counts.back()));
-    for (int r = 0; r < ranks_; ++r)
-      copyPiece(n, r, const_cast<double*>(A), packed.data() + offsets[static_cast<size_t>(r)],
-                true);
+    for (int r = 0; r < ranks_; ++r) {
+      double* piece = packed.data() + offsets[static_cast<size_t>(r)];
+      forEachSegment(n, r, [&](size_t whole, size_t local, int length) {
+        std::copy(A + whole, A + whole + length, piece + local);
+      });
+    }
   }
   lastPackSeconds_ = secondsSince(start);
   checkMpi(MPI_Scatterv(packed.data(), counts.data(), offsets.data(), MPI_DOUBLE, local.data(),
@@ -138,8 +136,12 @@ bool ScalapackCholesky::factor(int n, const double* A, double* L) {
            "gathering the Cholesky factor's blocks");
   const Clock::time_point gathered = Clock::now();
   if (isRoot)
-    for (int r = 0; r < ranks_; ++r)
-      copyPiece(n, r, L, packed.data() + offsets[static_cast<size_t>(r)], false);
+    for (int r = 0; r < ranks_; ++r) {
+      const double* piece = packed.data() + offsets[static_cast<size_t>(r)];
+      forEachSegment(n, r, [&](size_t whole, size_t local, int length) {
+        std::copy(piece + local, piece + local + length, L + whole);
+      });
+    }
   lastPackSeconds_ += secondsSince(gathered);
   lastMoveSeconds_ += secondsSince(factored);
   lastRootBytes_ = isRoot ? 2.0 * 8.0 * (offsets.back() + counts.back() - counts[0]) : 0.0;

@@ -27,7 +27,8 @@ class ScalapackCholesky {
 
  private:
   void makeGrids();
-  void copyPiece(int n, int rank, double* whole, double* local, bool toLocal) const;
+  template <typename Visit>
+  void forEachSegment(int n, int rank, Visit&& visit) const;
 
   int ranks_;
   int block_;  // rows and columns of a block

@@ -65,19 +65,19 @@ void reduceSharedGram(const Eigen::MatrixXd& deviations, const Eigen::VectorXd& 
   unpackLower(packed, P);
   // Rank r's G_r is about d = its first column: sum_j w_j d_j d_j^T = G_r + s d^T + d s^T +
   // W d d^T with s = sum_j w_j (d_j - d) and W = sum_j w_j, one product for every block.
-  Eigen::MatrixXd U(n, 0), V(n, 0);
+  Eigen::MatrixXd U(n, 2 * static_cast<Eigen::Index>(blocks.size() - 1)), V(n, U.cols());
+  Eigen::Index k = 0;
   for (size_t r = 1; r < blocks.size(); ++r) {
     const ColumnBlock& b = blocks[r];
     if (b.count == 0) continue;
     const Eigen::VectorXd d = deviations.col(b.first);
     const Eigen::VectorXd wb = w.segment(b.first, b.count);
     const Eigen::VectorXd s = deviations.middleCols(b.first, b.count) * wb - wb.sum() * d;
-    U.conservativeResize(n, U.cols() + 2);
-    V.conservativeResize(n, V.cols() + 2);
-    U.rightCols(2) << s, d;
-    V.rightCols(2) << d, s + wb.sum() * d;
+    U.middleCols(k, 2) << s, d;
+    V.middleCols(k, 2) << d, s + wb.sum() * d;
+    k += 2;
   }
-  if (U.cols() > 0) P.triangularView<Eigen::Lower>() += U * V.transpose();
+  if (k > 0) P.triangularView<Eigen::Lower>() += U.leftCols(k) * V.leftCols(k).transpose();
   P.triangularView<Eigen::StrictlyUpper>() = P.transpose();
 }
 
