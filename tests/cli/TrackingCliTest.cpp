@@ -210,7 +210,9 @@ TEST(RegisterCli, IcpRecoversAKnownTransformFromPartOfTheSurface) {
   const RegisterCase c = makeRegisterCase(5.0, Vec3(0.004, -0.003, 0.005));
   const test::CliResult r = runBcassim(c.dir, "register model.vtu points.csv --out out");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_TRUE(contains(r.out, "method: trimmed point-to-plane ICP, 13 starts probed")) << r.out;
+  EXPECT_TRUE(contains(
+      r.out, "method: trimmed point-to-plane ICP, 46 starts probed, the best 4 to convergence"))
+      << r.out;
   EXPECT_TRUE(contains(r.out, fmt::format("overlap: 100.0 % ({0} of {0} points)", c.ids.size())))
       << r.out;
   const RigidTransform t = readTransform(c.dir / "out" / "transform.csv");

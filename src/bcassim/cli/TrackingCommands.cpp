@@ -308,7 +308,7 @@ class RegisterCommand : public Command {
         ->check(kFraction)
         ->capture_default_str();
     app.add_option("--max-iterations", icp_.maxIterations,
-                   "ICP: most iterations of the refinement of the best start")
+                   "ICP: most iterations of each refinement")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
   }
@@ -346,8 +346,11 @@ class RegisterCommand : public Command {
         overlap = r.overlap;
         iterations = r.iterations;
         used = static_cast<int>(std::lround(r.overlap * static_cast<double>(points.rows())));
-        fmt::print("method: trimmed point-to-plane ICP, {} starts probed, start {} refined\n",
-                   icp_.startRotations.size(), r.start);
+        fmt::print(
+            "method: trimmed point-to-plane ICP, {} starts probed, the best {} to convergence, "
+            "start {} the deepest\n",
+            icp_.startRotations.size(),
+            std::min<size_t>(icp_.startRotations.size(), icp_.refinedStarts), r.start);
       }
     } catch (const InputError& e) {
       throw InputError(fmt::format("{}: {}", points_, e.what()));

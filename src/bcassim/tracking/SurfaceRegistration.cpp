@@ -1,6 +1,7 @@
 #include "bcassim/tracking/SurfaceRegistration.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -16,13 +17,19 @@
 namespace bcassim {
 
 std::vector<Eigen::Matrix3d> defaultStartRotations() {
+  std::vector<Vec3> axes;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sign : {1.0, -1.0}) axes.push_back(sign * Vec3::Unit(axis));
+  for (const double x : {1.0, -1.0})
+    for (const double y : {1.0, -1.0})
+      for (const double z : {1.0, -1.0}) axes.push_back(Vec3(x, y, z).normalized());
   std::vector<Eigen::Matrix3d> rotations{Eigen::Matrix3d::Identity()};
-  for (const double degrees : {45.0, 90.0})
-    for (int axis = 0; axis < 3; ++axis)
-      for (const double sign : {1.0, -1.0})
-        rotations.push_back(
-            Eigen::AngleAxisd(sign * degrees * std::numbers::pi / 180.0, Vec3::Unit(axis))
-                .toRotationMatrix());
+  for (const double degrees : {25.0, 50.0, 90.0})
+    for (const Vec3& axis : axes)
+      rotations.push_back(
+          Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis).toRotationMatrix());
+  for (int axis = 0; axis < 3; ++axis)
+    rotations.push_back(Eigen::AngleAxisd(std::numbers::pi, Vec3::Unit(axis)).toRotationMatrix());
   return rotations;
 }
 
@@ -53,11 +60,11 @@ void requireInputs(const Eigen::MatrixX3d& points, const TriMesh& surface,
                     o.medianFactor, o.minThreshold, o.tolerance));
   if (o.startRotations.empty())
     throw InputError("registration without start rotations; expected at least one (the identity)");
-  if (o.probeIterations < 1 || o.maxIterations < 1)
+  if (o.probeIterations < 1 || o.maxIterations < 1 || o.probePoints < 6 || o.refinedStarts < 1)
     throw InputError(
-        fmt::format("registration probeIterations {}, maxIterations {}; expected at "
-                    "least 1 each",
-                    o.probeIterations, o.maxIterations));
+        fmt::format("registration probeIterations {}, maxIterations {}, probePoints {}, "
+                    "refinedStarts {}; expected at least 1, 1, 6 and 1",
+                    o.probeIterations, o.maxIterations, o.probePoints, o.refinedStarts));
 }
 
 // The surface with what point-to-plane ICP needs of it: the AABB tree, and normals that vary
@@ -219,16 +226,37 @@ SurfaceRegistration registerPointsToSurface(const Eigen::MatrixX3d& points, cons
     about.translation = centre - R * centre;
     starts.push_back(compose(about, options.initial));
   }
-  int best = 0;
-  IcpRun bestRun;
-  for (int k = 0; k < static_cast<int>(starts.size()); ++k) {
-    IcpRun run = runIcp(points, target, starts[k], options.probeIterations, options);
-    if (k == 0 || run.pairs.median < bestRun.pairs.median) {
-      best = k;
-      bestRun = std::move(run);
-    }
+  // Probes on evenly spaced rows: a large cloud's probes cost what probePoints' cost.
+  const Eigen::Index probeCount = std::min<Eigen::Index>(points.rows(), options.probePoints);
+  Eigen::MatrixX3d probePoints(probeCount, 3);
+  for (Eigen::Index i = 0; i < probeCount; ++i)
+    probePoints.row(i) = points.row(i * points.rows() / probeCount);
+  // The starts are independent (the locator's queries are const): probed in parallel, chosen
+  // in order afterwards, so the result does not depend on the threads.
+  std::vector<IcpRun> probes(starts.size());
+  tbb::parallel_for(size_t{0}, starts.size(), [&](size_t k) {
+    probes[k] = runIcp(probePoints, target, starts[k], options.probeIterations, options);
+  });
+  std::vector<int> order(starts.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return probes[a].pairs.median < probes[b].pairs.median; });
+  order.resize(std::min<size_t>(order.size(), options.refinedStarts));
+  std::vector<IcpRun> converged(order.size());
+  tbb::parallel_for(size_t{0}, order.size(), [&](size_t r) {
+    converged[r] =
+        runIcp(probePoints, target, probes[order[r]].transform, options.maxIterations, options);
+  });
+  size_t deepest = 0;
+  for (size_t r = 1; r < order.size(); ++r) {
+    const double m = converged[r].pairs.median, d = converged[deepest].pairs.median;
+    if (m < d || (m == d && order[r] < order[deepest])) deepest = r;
   }
-  const IcpRun refined = runIcp(points, target, bestRun.transform, options.maxIterations, options);
+  const int best = order[deepest];
+  const IcpRun refined =
+      probeCount == points.rows()
+          ? std::move(converged[deepest])
+          : runIcp(points, target, converged[deepest].transform, options.maxIterations, options);
   SurfaceRegistration result;
   result.transform = refined.transform;
   result.rms = refined.pairs.rms;
