@@ -162,6 +162,31 @@ TEST(CommandOptions, NegativeWalkAndCameraOffsetAreArgumentErrorsNamingTheOption
     }
 }
 
+// liver tracked's point-cloud variant: what the camera gives and its sizes, out of range: one
+// line naming the option, exit 2, before anything runs; the help gives each default.
+TEST(CommandOptions, LiverTrackedSurfaceOptionsRefuseBadValuesNamingTheOption) {
+  const auto dir = freshDir();
+  const std::pair<const char*, const char*> refused[] = {
+      {"--observe points", "--observe: points not in {tackers,surface}"},
+      {"--surface-coverage 2", "--surface-coverage: Value 2 not in range 0.010000 to 1.000000"},
+      {"--surface-points 5", "--surface-points: Value 5 not in range 10 to 1000000"},
+      {"--surface-outliers 0.7",
+       "--surface-outliers: Value 0.7 not in range 0.000000 to 0.500000"}};
+  for (const auto& [option, message] : refused) {
+    SCOPED_TRACE(option);
+    const test::CliResult r = runBcassim(dir, std::string("liver tracked phantom ") + option);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, std::string("bcassim: error: ") + message + " (see 'bcassim --help')\n");
+    EXPECT_EQ(r.out, "");
+  }
+  const std::string help = runBcassim(dir, "liver tracked --help").out;
+  for (const char* line : {"--observe TEXT:{tackers,surface}=tackers",
+                           "--surface-coverage FLOAT:FLOAT in [0.01 - 1]=0.3",
+                           "--surface-points INT:INT in [10 - 1000000]=500",
+                           "--surface-outliers FLOAT:FLOAT in [0 - 0.5]=0.01"})
+    EXPECT_TRUE(contains(help, line)) << line;
+}
+
 // serve and replay: a time offset that is no number, an address that is not HOST:PORT, a port,
 // rate or lag out of range: one line naming the option, exit 2, before any file is read.
 TEST(CommandOptions, ServeAndReplayRefuseBadValuesNamingTheOption) {

@@ -10,8 +10,11 @@
 #include <set>
 
 #include "bcassim/experiments/tracked/SyntheticCamera.h"
+#include "bcassim/experiments/tracked/SyntheticDepthCamera.h"
 #include "bcassim/experiments/tracked/TrackedLiverPipeline.h"
 #include "bcassim/experiments/tracked/TrackingScore.h"
+#include "bcassim/mesh/ClosestPoint.h"
+#include "bcassim/mesh/MeshGenerators.h"
 #include "ligaments/LigamentTestData.h"
 #include "support/TestFiles.h"
 
@@ -83,6 +86,100 @@ TEST(SyntheticCamera, PoseDropoutsSpuriousDetectionsAndNoiseAsAsked) {
   EXPECT_THROW(recordTackers(truth, o), InputError);
 }
 
+// The visible part of a unit sphere seen along +z: the faces most turned to the camera until
+// the coverage, i.e. a cap around the pole; the samples lie on it, uniformly by area.
+TEST(SyntheticDepthCamera, SamplesTheFacesTurnedToTheCameraUpToTheCoverage) {
+  const TriMesh sphere = makeIcosphereSurface(1.0, 4);
+  const SurfaceSamples s = sampleVisibleSurface(sphere, Vec3::UnitZ(), 0.3, 4000, 7);
+  ASSERT_EQ(s.points.rows(), 4000);
+  // Whole faces are taken: the coverage is reached, by at most a few faces' area (1,280 faces).
+  EXPECT_GE(s.areaFraction, 0.3);
+  EXPECT_LT(s.areaFraction, 0.3 + 5.0 / 1280.0);
+  const SurfaceLocator locator(sphere);
+  // A cap of area fraction f on a sphere spans z in [1 - 2f, 1]; uniform by area, z is uniform
+  // there (Archimedes): mean 1 - f, within 5 standard errors.
+  const double f = s.areaFraction, zLow = 1.0 - 2.0 * f;
+  double zSum = 0.0;
+  for (Eigen::Index i = 0; i < s.points.rows(); ++i) {
+    EXPECT_LT(locator.closest(s.points.row(i).transpose()).distance, 1e-12);
+    EXPECT_GT(s.points(i, 2), zLow - 0.02);  // the polyhedron's faces straddle the cap's rim
+    zSum += s.points(i, 2);
+  }
+  const double spread = (1.0 - zLow) / std::sqrt(12.0 * 4000.0);
+  EXPECT_NEAR(zSum / 4000.0, 1.0 - f, 5.0 * spread + 0.005);
+  EXPECT_THROW(sampleVisibleSurface(sphere, Vec3::UnitZ(), 0.0, 10, 1), InputError);
+  try {
+    sampleVisibleSurface(sphere, Vec3::UnitZ(), 1.5, 10, 1);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "surface camera coverage 1.5; expected a fraction of the area in (0, 1]");
+  }
+}
+
+// Every frame: the points asked for, a fresh subset of the samples, the outliers' fraction, the
+// noise, all in the camera's frame (the same pose as the tacker camera draws for the seed).
+TEST(SyntheticDepthCamera, FramesDrawFreshSubsetsWithNoiseAndOutliersInTheCameraFrame) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 0.1);
+  MarkerTracks truth;
+  truth.numMarkers = 1000;
+  Eigen::MatrixX3d P(1000, 3);
+  for (Eigen::Index i = 0; i < P.rows(); ++i) P.row(i) << u(rng), u(rng), u(rng);
+  for (int k = 0; k < 100; ++k) {
+    truth.times.push_back(0.02 * k);
+    truth.frames.push_back(P.array() + 0.001 * k);  // the organ moves 1 mm per frame
+  }
+  CameraOptions camera;  // 1 mm, 10 cm / 20 degrees
+  SurfaceCameraOptions o;
+  o.pointsPerFrame = 300;
+  o.outliers = 0.05;
+  const SurfaceRecording rec = recordSurface(truth, camera, o);
+  EXPECT_NEAR(Eigen::AngleAxisd(rec.modelToCamera.rotation).angle(), 20.0 * M_PI / 180.0, 1e-12);
+  EXPECT_TRUE(
+      rec.modelToCamera.rotation.isApprox(recordTackers(truth, camera).modelToCamera.rotation));
+  ASSERT_EQ(rec.frames.size(), 100u);
+  const RigidTransform back = rec.modelToCamera.inverse();
+  int inliers = 0, outliers = 0, shared = 0;
+  double sum2 = 0.0;
+  std::set<int> previous;
+  for (size_t f = 0; f < rec.frames.size(); ++f) {
+    ASSERT_EQ(rec.frames[f].points.rows(), 300);
+    EXPECT_EQ(rec.frames[f].time, truth.times[f]);
+    const Eigen::MatrixX3d model = back.apply(rec.frames[f].points);
+    std::set<int> seen;
+    for (size_t j = 0; j < rec.sampleOf[f].size(); ++j) {
+      const int k = rec.sampleOf[f][j];
+      if (k < 0) {
+        ++outliers;
+        continue;
+      }
+      EXPECT_TRUE(seen.insert(k).second) << "sample " << k << " twice in frame " << f;
+      ++inliers;
+      sum2 += (model.row(static_cast<Eigen::Index>(j)) - truth.frames[f].row(k)).squaredNorm();
+    }
+    for (int k : seen) shared += previous.count(k);
+    previous = std::move(seen);
+  }
+  EXPECT_EQ(rec.outliers, outliers);
+  EXPECT_EQ(rec.points, 30000);
+  // Outliers ~ B(30000, 0.05) within 5 standard deviations; noise within 5 % of 1 mm.
+  EXPECT_NEAR(outliers, 0.05 * 30000, 5 * std::sqrt(30000 * 0.05 * 0.95));
+  EXPECT_NEAR(std::sqrt(sum2 / (3.0 * inliers)), 1e-3, 5e-5);
+  // Fresh subsets: two frames share ~ 300 x 300 / 1000 = 90 samples, not 300.
+  EXPECT_LT(shared / 99.0, 120.0);
+  EXPECT_EQ(recordSurface(truth, camera, o).frames.back().points, rec.frames.back().points);
+  o.outliers = 1.0;
+  try {
+    recordSurface(truth, camera, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "surface camera pointsPerFrame 300, outliers 1; expected at least 1 and a "
+                 "fraction in [0, 1)");
+  }
+}
+
 TEST(TrackingScore, CountsSwitchesWrongLabelsAndSpuriousIdsOfAHandMadeCase) {
   // Two tackers over four frames; the ids swap in frame 1, tacker 1 is missed in frame 2 where a
   // spurious detection gets no id.
@@ -141,6 +238,39 @@ TEST(TrackedLiverPipeline, SmallPhantomTracksRegistersAndBeatsVesselsOnly) {
   EXPECT_LE(estimated.overTime.meanMm, vessels.overTime.meanMm);
   for (const char* file : {"tre.csv", "summary.csv", "camera/detections.csv", "track/tracks.csv",
                            "register/transform.csv", "register/tracks.csv"})
+    EXPECT_TRUE(std::filesystem::exists(dir / file)) << file;
+}
+
+// The point-cloud variant on the small phantom: a partial surface (30 % of the area) instead of
+// tackers, registered by trimmed ICP from its first frames, then observed point-to-plane.
+TEST(TrackedLiverPipeline, SmallPhantomFromAPartialSurfaceRegistersAndBeatsVesselsOnly) {
+  const auto dir = freshDir();
+  TrackedLiverOptions o;
+  o.observe = TrackedObservation::Surface;
+  o.liver.surface = kLiverPhantomName;
+  o.liver.coarseNodes = 1200;
+  o.liver.fineNodes = 2500;
+  o.liver.groups = 4;
+  o.liver.steps = 150;
+  o.liver.observedSteps = 150;
+  o.liver.threads = 2;
+  const TrackedLiverReport r = runTrackedLiverPipeline(o, dir.string());
+  EXPECT_TRUE(r.surface);
+  EXPECT_EQ(r.tackers, 0);
+  EXPECT_GE(r.surfaceAreaFraction, 0.3);
+  EXPECT_LT(r.surfaceAreaFraction, 0.32);
+  EXPECT_EQ(r.cloudPoints, 161 * 500);  // 10 rest frames, t = 0, 150 steps
+  EXPECT_GT(r.cloudOutliers, 0);
+  // 5,500 points of 11 frames pin the pose far better than 14 tackers do (1.5 mm there): the
+  // noise averages out; what is left is the coarse model's surface against the truth's.
+  EXPECT_EQ(r.registeredPoints, 5500);
+  EXPECT_LT(r.registrationErrorMean, 0.5e-3);
+  EXPECT_LT(r.registrationAngleDegrees, 0.5);
+  ASSERT_EQ(r.scenarios.size(), 3u);
+  EXPECT_LT(r.scenarios[2].peakMeanMm, r.scenarios[0].peakMeanMm);
+  EXPECT_LT(r.scenarios[2].overTime.meanMm, r.scenarios[0].overTime.meanMm);
+  for (const char* file : {"tre.csv", "summary.csv", "camera/detections.csv",
+                           "register/transform.csv", "surface_samples.csv"})
     EXPECT_TRUE(std::filesystem::exists(dir / file)) << file;
 }
 

@@ -311,21 +311,34 @@ void printTrackedReport(const TrackedLiverReport& r, const std::string& outDir) 
   else
     fmt::print("springs' curve: the liver's own labelled curve (no atlas)\n");
   const TrackingScore& t = r.tracking;
-  fmt::print(
-      "camera: {} detections ({} spurious) of {} tackers; tracking: {} tracks, {} identity "
-      "switches, {} wrong labels, {} spurious labelled, {} tacker detections unlabelled\n",
-      r.detections, r.spuriousDetections, r.tackers, t.tracks, t.identitySwitches, t.wrongLabels,
-      t.spuriousLabelled, t.unlabelled);
-  fmt::print(
-      "  the other assignment method on the same frames: {} tracks, {} switches, {} wrong "
-      "labels\n",
-      r.otherMethod.tracks, r.otherMethod.identitySwitches, r.otherMethod.wrongLabels);
-  fmt::print(
-      "registration (ICP, {} markers): rms {:.2f} mm, overlap {:.0f} %, {} iterations; error "
-      "{:.2f} mm mean, {:.2f} mm max, {:.2f} deg; markers {:.2f} mm from their tackers\n",
-      r.markers, 1e3 * r.registration.rms, 100 * r.registration.overlap, r.registration.iterations,
-      1e3 * r.registrationErrorMean, 1e3 * r.registrationErrorMax, r.registrationAngleDegrees,
-      1e3 * r.markerOffsetMean);
+  if (r.surface) {
+    fmt::print(
+        "camera: partial surface, {:.0f} % of the area seen, {} points over the frames ({} "
+        "outliers), no correspondences\n",
+        100 * r.surfaceAreaFraction, r.cloudPoints, r.cloudOutliers);
+    fmt::print(
+        "registration (trimmed ICP, {} points of the first frames): rms {:.2f} mm, overlap {:.0f} "
+        "%, {} iterations; error {:.2f} mm mean, {:.2f} mm max, {:.2f} deg\n",
+        r.registeredPoints, 1e3 * r.registration.rms, 100 * r.registration.overlap,
+        r.registration.iterations, 1e3 * r.registrationErrorMean, 1e3 * r.registrationErrorMax,
+        r.registrationAngleDegrees);
+  } else {
+    fmt::print(
+        "camera: {} detections ({} spurious) of {} tackers; tracking: {} tracks, {} identity "
+        "switches, {} wrong labels, {} spurious labelled, {} tacker detections unlabelled\n",
+        r.detections, r.spuriousDetections, r.tackers, t.tracks, t.identitySwitches, t.wrongLabels,
+        t.spuriousLabelled, t.unlabelled);
+    fmt::print(
+        "  the other assignment method on the same frames: {} tracks, {} switches, {} wrong "
+        "labels\n",
+        r.otherMethod.tracks, r.otherMethod.identitySwitches, r.otherMethod.wrongLabels);
+    fmt::print(
+        "registration (ICP, {} markers): rms {:.2f} mm, overlap {:.0f} %, {} iterations; error "
+        "{:.2f} mm mean, {:.2f} mm max, {:.2f} deg; markers {:.2f} mm from their tackers\n",
+        r.markers, 1e3 * r.registration.rms, 100 * r.registration.overlap,
+        r.registration.iterations, 1e3 * r.registrationErrorMean, 1e3 * r.registrationErrorMax,
+        r.registrationAngleDegrees, 1e3 * r.markerOffsetMean);
+  }
   fmt::print("\n{:<12} {:>22}   (prior {:.4g} ± {:.3g})\n", "parameter", "estimate ± σ",
              r.assimilation.parameters.empty() ? 0.0 : r.assimilation.parameters[0].initialMean,
              r.assimilation.parameters.empty() ? 0.0 : r.assimilation.parameters[0].initialStddev);
@@ -348,8 +361,8 @@ void printTrackedReport(const TrackedLiverReport& r, const std::string& outDir) 
   fmt::print("  thesis §5.3 (one cadaver liver, real data): 17.5 -> 16.1 -> 14.0 mm\n");
   fmt::print("assimilation: median {:.1f} ms/step; truth {:.0f} s; {:.0f} s in all\n",
              r.assimilation.medianStepMs, r.truth.wallSeconds, r.seconds);
-  fmt::print("results: {}/summary.csv, tre.csv, track/tracks.csv, register/transform.csv\n",
-             outDir);
+  fmt::print("results: {}/summary.csv, tre.csv, {}register/transform.csv\n", outDir,
+             r.surface ? "camera/detections.csv, " : "track/tracks.csv, ");
 }
 
 // The default folder of the livers an atlas is built from: the surface's own folder when it
@@ -410,8 +423,27 @@ class LiverTrackedCommand : public Command {
                    "distances)")
         ->check(CLI::IsMember({"optimal", "greedy"}))
         ->capture_default_str();
+    app.add_option("--observe", observe_,
+                   "What the camera gives: tackers (tracked, thesis §5.3) or surface (a partial "
+                   "point cloud of the anterior surface, no correspondences)")
+        ->check(CLI::IsMember({"tackers", "surface"}))
+        ->capture_default_str();
+    app.add_option("--surface-coverage", o.surfaceCamera.coverage,
+                   "--observe surface: fraction of the liver's surface area the camera sees")
+        ->check(CLI::Range(0.01, 1.0))
+        ->capture_default_str();
+    app.add_option("--surface-points", o.surfaceCamera.pointsPerFrame,
+                   "--observe surface: points per frame, drawn afresh from the visible part")
+        ->check(CLI::Range(10, 1000000))
+        ->capture_default_str();
+    app.add_option("--surface-outliers", o.surfaceCamera.outliers,
+                   "--observe surface: fraction of each frame's points that are outliers (in the "
+                   "points' box grown by 3 cm)")
+        ->check(CLI::Range(0.0, 0.5))
+        ->capture_default_str();
     app.add_option("--registration-frames", o.registrationFrames,
-                   "First frames averaged per tacker and registered onto the model (ICP)")
+                   "First frames averaged per tacker and registered onto the model (ICP; "
+                   "--observe surface: their points together)")
         ->check(CLI::Range(1, 1000000))
         ->capture_default_str();
     app.add_option("--atlas-livers", atlasLivers_,
@@ -428,6 +460,7 @@ class LiverTrackedCommand : public Command {
     o.camera.noise = o.liver.noise;
     o.tracker.assignment =
         method_ == "greedy" ? AssignmentMethod::Greedy : AssignmentMethod::Optimal;
+    o.observe = observe_ == "surface" ? TrackedObservation::Surface : TrackedObservation::Tackers;
     o.atlasLiverDir = atlasLivers_.empty()     ? defaultAtlasLivers(o.liver.surface)
                       : atlasLivers_ == "none" ? ""
                                                : atlasLivers_;
@@ -435,14 +468,19 @@ class LiverTrackedCommand : public Command {
     const io::OutputDirectoryLock lock(outDir);
     fmt::print("liver {} -> {} (pipeline-tracked, thesis §5.3)\n", o.liver.surface, outDir);
     std::fflush(stdout);
+    const bool surface = o.observe == TrackedObservation::Surface;
     LiverStageDisplay display(
         {{"prepare", "meshing and scenario"},
          {"atlas", "ligament atlas without this liver, transferred onto it"},
-         {"truth", "ground truth (fine Ogden liver, dense ligament) with the tackers"},
-         {"camera", "camera: noisy tackers, dropouts, spurious detections, no ids"},
+         {"truth", surface ? "ground truth (fine Ogden liver, dense ligament) with the surface"
+                           : "ground truth (fine Ogden liver, dense ligament) with the tackers"},
+         {"camera", surface ? "camera: partial surface clouds, noise, outliers, no correspondences"
+                            : "camera: noisy tackers, dropouts, spurious detections, no ids"},
          {"track", "tracking (identities over frames)"},
          {"register", "registration of the first frames onto the model (ICP)"},
-         {"estimate", "assimilation (ROUKF) of the atlas springs from the tracked tackers"},
+         {"estimate", surface
+                          ? "assimilation (ROUKF) of the atlas springs from the point clouds"
+                          : "assimilation (ROUKF) of the atlas springs from the tracked tackers"},
          {"vessels", "(i) vessels fixed only"},
          {"prior", "(ii) + atlas springs at their prior stiffness"},
          {"estimated", "(iii) + the springs estimated"}},
@@ -457,7 +495,7 @@ class LiverTrackedCommand : public Command {
  private:
   LiverArguments args_;
   TrackedLiverOptions tracked_;
-  std::string method_ = "optimal", atlasLivers_;
+  std::string method_ = "optimal", observe_ = "tackers", atlasLivers_;
   bool quiet_ = false, resume_ = false;
 };
 

@@ -14,7 +14,17 @@
 namespace bcassim {
 namespace {
 
-void requireOptions(const CameraOptions& o) {
+Vec3 randomUnit(std::mt19937_64& rng) {
+  std::normal_distribution<double> normal;
+  Vec3 v;
+  do v = Vec3(normal(rng), normal(rng), normal(rng));
+  while (v.norm() < 1e-6);
+  return v.normalized();
+}
+
+}  // namespace
+
+void requireCameraOptions(const CameraOptions& o) {
   auto check = [](bool ok, const char* name, double value, const char* expected) {
     if (!ok)
       throw InputError(fmt::format("camera option {} is {}; expected {}", name, value, expected));
@@ -26,18 +36,16 @@ void requireOptions(const CameraOptions& o) {
   check(o.spuriousMargin >= 0.0, "spuriousMargin", o.spuriousMargin, "a distance >= 0 (m)");
 }
 
-Vec3 randomUnit(std::mt19937_64& rng) {
-  std::normal_distribution<double> normal;
-  Vec3 v;
-  do v = Vec3(normal(rng), normal(rng), normal(rng));
-  while (v.norm() < 1e-6);
-  return v.normalized();
+RigidTransform drawCameraPose(const Vec3& centre, const CameraOptions& o, std::mt19937_64& rng) {
+  RigidTransform pose;
+  pose.rotation = Eigen::AngleAxisd(o.angleDegrees * std::numbers::pi / 180.0, randomUnit(rng))
+                      .toRotationMatrix();
+  pose.translation = centre - pose.rotation * centre + o.offset * randomUnit(rng);
+  return pose;
 }
 
-}  // namespace
-
 CameraRecording recordTackers(const MarkerTracks& truth, const CameraOptions& o) {
-  requireOptions(o);
+  requireCameraOptions(o);
   if (truth.frames.empty()) throw InputError("camera: no truth frames to record");
   for (size_t f = 0; f < truth.frames.size(); ++f)
     if (!truth.frames[f].allFinite())
@@ -47,12 +55,8 @@ CameraRecording recordTackers(const MarkerTracks& truth, const CameraOptions& o)
                       truth.times[f]));
   std::mt19937_64 rng(o.seed);
   CameraRecording rec;
-  const Vec3 centre = truth.frames.front().colwise().mean().transpose();
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(o.angleDegrees * std::numbers::pi / 180.0, randomUnit(rng))
-          .toRotationMatrix();
-  rec.modelToCamera.rotation = R;
-  rec.modelToCamera.translation = centre - R * centre + o.offset * randomUnit(rng);
+  rec.modelToCamera = drawCameraPose(truth.frames.front().colwise().mean().transpose(), o, rng);
+  const Eigen::Matrix3d& R = rec.modelToCamera.rotation;
 
   std::normal_distribution<double> noise(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);

@@ -3,8 +3,10 @@
 // detections, in no order and without ids. Metres, seconds.
 #pragma once
 #include <cstdint>
+#include <random>
 #include <vector>
 
+#include "bcassim/Types.h"
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/io/DetectionsCsv.h"
 #include "bcassim/mesh/RigidTransform.h"
@@ -30,6 +32,15 @@ struct CameraRecording {
   RigidTransform modelToCamera;            // the true pose of the camera frame
   int detections = 0, spuriousDetections = 0;
 };
+
+// Throws InputError naming the first option out of range.
+void requireCameraOptions(const CameraOptions& options);
+
+// The camera frame: rotated by options.angleDegrees about a random axis through `centre`, then
+// shifted by options.offset in a random direction; the two directions drawn from `rng` in that
+// order.
+RigidTransform drawCameraPose(const Vec3& centre, const CameraOptions& options,
+                              std::mt19937_64& rng);
 
 // `truth`: the tackers' tracks in the model frame (a truth run's markers.csv), each frame with
 // every tacker. One camera frame per truth frame, at its time. Deterministic for a seed. Throws

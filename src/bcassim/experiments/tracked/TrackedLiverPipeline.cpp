@@ -7,7 +7,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <numbers>
+#include <optional>
 
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
@@ -21,6 +23,7 @@
 #include "bcassim/scene/NodePoints.h"
 #include "bcassim/scene/SceneBuilders.h"
 #include "bcassim/tracking/LabelledTracks.h"
+#include "bcassim/tracking/SurfaceRegistration.h"
 
 namespace bcassim {
 namespace {
@@ -91,56 +94,46 @@ void writeTrackingReport(const fs::path& path, const std::vector<std::string>& l
   if (!f) io::throwWriteError(path.string());
 }
 
-}  // namespace
+// The camera's first guess of its pose: no rotation, the centroid of what it sees in the first
+// frames on the centroid of the model's anterior surface (the side the camera is known to face).
+RigidTransform firstGuess(const LiverSceneSpec& spec, const Eigen::MatrixX3d& seen) {
+  const BoundarySurface boundary = extractBoundary(*spec.coarse);
+  Vec3 anterior = Vec3::Zero();
+  int n = 0;
+  for (int node : boundary.nodes)
+    if (boundary.vertexNormals.row(node).dot(spec.anatomy.anterior) > 0.5)
+      anterior += spec.coarse->V.row(node).transpose(), ++n;
+  RigidTransform guess;
+  if (n > 0 && seen.rows() > 0)
+    guess.translation = anterior / n - seen.colwise().mean().transpose();
+  return guess;
+}
 
-TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const std::string& outDir,
-                                           const LiverCallbacks& cb, bool resume) {
-  const auto t0 = Clock::now();
-  const fs::path dir(outDir);
-  auto resumable = [&](const char* run) {
-    return resume && fs::exists(dir / run / "checkpoint.bin");
-  };
-  auto stage = [&](const std::string& s) {
-    if (cb.stage) cb.stage(s);
-  };
-  TrackedLiverReport report;
+// The registration's error against the true camera pose, over the model's nodes.
+void scoreRegistration(const SurfaceRegistration& icp, const RigidTransform& modelToCamera,
+                       const LiverSceneSpec& spec, TrackedLiverReport& report) {
+  report.registration = icp;
+  const RigidTransform roundTrip = compose(icp.transform, modelToCamera);
+  const Eigen::VectorXd e = (roundTrip.apply(spec.coarse->V) - spec.coarse->V).rowwise().norm();
+  report.registrationErrorMean = e.mean();
+  report.registrationErrorMax = e.maxCoeff();
+  report.registrationAngleDegrees =
+      Eigen::AngleAxisd(roundTrip.rotation).angle() * 180.0 / std::numbers::pi;
+}
 
-  stage("prepare");
-  const LiverSceneSpec spec = prepareLiverSceneSpec(o.liver, outDir, report.scenario);
-  const Eigen::MatrixX3d tackers = placeTackers(*spec.fine, spec.anatomy, o.liver.markers);
-  report.tackers = static_cast<int>(tackers.rows());
-  writePointsCsv((dir / "tackers.csv").string(), tackers);
-  fs::remove(dir / "markers.csv");  // the liver experiment's markers: not this experiment's
+struct TackerObservations {
+  fs::path tracks;                 // register/tracks.csv: the tracks in the model frame
+  Eigen::MatrixX3d markersAtRest;  // the markers on the model's surface
+};
 
-  // The springs' curve: from the atlas built without this liver, or the liver's own.
-  Eigen::MatrixX3d springCurve = spec.curve;
-  if (!o.atlasLiverDir.empty()) {
-    stage("atlas");
-    LeftOutAtlasOptions ao;
-    ao.liverDir = o.atlasLiverDir;
-    ao.scale = o.liver.scale;
-    ao.exclude = fs::path(o.liver.surface).stem().string();
-    ao.cacheDir = o.atlasCacheDir.empty() ? (dir / "atlas").string() : o.atlasCacheDir;
-    TriMesh patient = readSurface(o.liver.surface);
-    patient.V *= o.liver.scale;
-    report.atlas = leftOutAtlasCurve(patient, ao, cb.log);
-    report.atlasUsed = true;
-    springCurve = report.atlas.curve;
-    const std::vector<double> d = distancesToPolyline(springCurve, spec.curve);
-    for (double x : d) report.curveDistanceMean += x / static_cast<double>(d.size());
-    report.curveDistanceMax = *std::max_element(d.begin(), d.end());
-  }
-  writePointsCsv((dir / "spring_curve.csv").string(), springCurve);
+using StageCallback = std::function<void(const std::string&)>;
 
-  stage("truth");
-  LiverSceneSpec truthSpec = spec;
-  truthSpec.markers = tackers;
-  report.truth = runSimulation(makeLiverTruthScene(truthSpec), (dir / "truth").string(),
-                               cb.simulation, resumable("truth"));
-
-  stage("camera");
-  const MarkerTracks truthTackers =
-      tackerTracksFromRest(dir / "truth" / "markers.csv", tackers, o.restFrames, o.liver.dt);
+// Tackers: the camera's detections, tracked (identities), registered onto the model by ICP of
+// the tracks' mean positions over the first frames.
+TackerObservations observeTackers(const TrackedLiverOptions& o, const MarkerTracks& truthTackers,
+                                  const Eigen::MatrixX3d& tackers, const TriMesh& modelSurface,
+                                  const LiverSceneSpec& spec, const fs::path& dir,
+                                  TrackedLiverReport& report, const StageCallback& stage) {
   const CameraRecording recording = recordTackers(truthTackers, o.camera);
   report.detections = recording.detections;
   report.spuriousDetections = recording.spuriousDetections;
@@ -172,39 +165,26 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
   writeTrackingReport(dir / "track" / "report.txt", tracked.report);
 
   stage("register");
-  const TriMesh modelSurface = toTriMesh(*spec.coarse, extractBoundary(*spec.coarse));
   TackerRegistrationOptions ro;
   ro.frames = o.registrationFrames;
   // No trimming: tracking has removed the spurious detections, and with a dozen points on a
   // smooth surface every one of them is needed to hold the pose.
   ro.icp.medianFactor = 0.0;
   {
-    // First guess: no rotation, the tracked points' centroid on the centroid of the model's
-    // anterior surface (the tackers are known to be on the side the camera sees).
-    const BoundarySurface boundary = extractBoundary(*spec.coarse);
-    Vec3 anterior = Vec3::Zero();
-    int n = 0;
-    for (int node : boundary.nodes)
-      if (boundary.vertexNormals.row(node).dot(spec.anatomy.anterior) > 0.5)
-        anterior += spec.coarse->V.row(node).transpose(), ++n;
-    Vec3 seen = Vec3::Zero();
-    int m = 0;
+    std::vector<Eigen::RowVector3d> seen;
     for (size_t f = 0; f < std::min<size_t>(cameraTracks.frames.size(), o.registrationFrames); ++f)
       for (Eigen::Index k = 0; k < cameraTracks.frames[f].rows(); ++k)
         if (cameraTracks.frames[f].row(k).allFinite())
-          seen += cameraTracks.frames[f].row(k).transpose(), ++m;
-    if (n > 0 && m > 0) ro.icp.initial.translation = anterior / n - seen / m;
+          seen.push_back(cameraTracks.frames[f].row(k));
+    Eigen::MatrixX3d P(static_cast<Eigen::Index>(seen.size()), 3);
+    for (size_t i = 0; i < seen.size(); ++i) P.row(static_cast<Eigen::Index>(i)) = seen[i];
+    ro.icp.initial = firstGuess(spec, P);
   }
   const TackerRegistration reg = registerTackers(cameraTracks, modelSurface, ro);
-  report.registration = reg.icp;
+  scoreRegistration(reg.icp, recording.modelToCamera, spec, report);
   report.markers = static_cast<int>(reg.trackOfMarker.size());
+  report.registeredPoints = report.markers;
   {
-    const RigidTransform roundTrip = compose(reg.icp.transform, recording.modelToCamera);
-    const Eigen::VectorXd e = (roundTrip.apply(spec.coarse->V) - spec.coarse->V).rowwise().norm();
-    report.registrationErrorMean = e.mean();
-    report.registrationErrorMax = e.maxCoeff();
-    report.registrationAngleDegrees =
-        Eigen::AngleAxisd(roundTrip.rotation).angle() * 180.0 / std::numbers::pi;
     int counted = 0;
     for (size_t k = 0; k < reg.trackOfMarker.size(); ++k) {
       const int tacker = report.tracking.mainTacker[reg.trackOfMarker[k]];
@@ -223,20 +203,147 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
     writePointsCsv((dir / "register" / "markers.csv").string(), reg.markersAtRest,
                    {{"track", track}});
   }
-  const fs::path observedTracks = dir / "register" / "tracks.csv";
-  writeMarkerTracks(observedTracks.string(), reg.modelTracks);
+  TackerObservations out{dir / "register" / "tracks.csv", reg.markersAtRest};
+  writeMarkerTracks(out.tracks.string(), reg.modelTracks);
+  return out;
+}
 
-  stage("estimate");
+// A partial surface: the depth camera's clouds, the first frames' points together registered
+// onto the model by trimmed ICP, then every frame moved into the model's frame; frame k of the
+// settings is the cloud at t = k dt (the rest frames before t = 0 are for the registration).
+PointCloudSettings observeSurface(const TrackedLiverOptions& o, const MarkerTracks& truthSamples,
+                                  const TriMesh& modelSurface, const LiverSceneSpec& spec,
+                                  const fs::path& dir, TrackedLiverReport& report,
+                                  const StageCallback& stage) {
+  const SurfaceRecording recording = recordSurface(truthSamples, o.camera, o.surfaceCamera);
+  report.cloudPoints = recording.points;
+  report.cloudOutliers = recording.outliers;
+  const fs::path detections = dir / "camera" / "detections.csv";
+  writeDetectionsCsv(detections.string(), recording.frames);
+  writeMatrix4(dir / "camera" / "pose.csv", recording.modelToCamera);
+
+  stage("register");
+  Eigen::Index count = 0;
+  const size_t first = std::min<size_t>(recording.frames.size(), o.registrationFrames);
+  for (size_t f = 0; f < first; ++f) count += recording.frames[f].points.rows();
+  Eigen::MatrixX3d seen(count, 3);
+  count = 0;
+  for (size_t f = 0; f < first; ++f) {
+    seen.middleRows(count, recording.frames[f].points.rows()) = recording.frames[f].points;
+    count += recording.frames[f].points.rows();
+  }
+  SurfaceRegistrationOptions icp;  // trimmed: the outliers, and the cloud's edges off the model
+  icp.initial = firstGuess(spec, seen);
+  const SurfaceRegistration reg = registerPointsToSurface(seen, modelSurface, icp);
+  scoreRegistration(reg, recording.modelToCamera, spec, report);
+  report.registeredPoints = static_cast<int>(seen.rows());
+  writeMatrix4(dir / "register" / "transform.csv", reg.transform);
+
+  PointCloudSettings pc;
+  pc.source = detections.string();
+  const auto steps = static_cast<size_t>(spec.options.steps);
+  pc.frames.assign(steps + 1, Eigen::MatrixX3d());
+  pc.present.assign(steps + 1, false);
+  pc.frameNames.assign(steps + 1, std::string());
+  for (const TimedPoints& f : recording.frames) {
+    const long k = std::lround(f.time / spec.options.dt);
+    if (k < 0 || k > static_cast<long>(steps)) continue;
+    pc.frames[static_cast<size_t>(k)] = reg.transform.apply(f.points);
+    pc.present[static_cast<size_t>(k)] = true;
+    pc.frameNames[static_cast<size_t>(k)] =
+        fmt::format("{} at t = {:.6g} s", detections.string(), f.time);
+  }
+  return pc;
+}
+
+}  // namespace
+
+TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const std::string& outDir,
+                                           const LiverCallbacks& cb, bool resume) {
+  const auto t0 = Clock::now();
+  const fs::path dir(outDir);
+  auto resumable = [&](const char* run) {
+    return resume && fs::exists(dir / run / "checkpoint.bin");
+  };
+  auto stage = [&](const std::string& s) {
+    if (cb.stage) cb.stage(s);
+  };
+  TrackedLiverReport report;
+
+  stage("prepare");
+  const LiverSceneSpec spec = prepareLiverSceneSpec(o.liver, outDir, report.scenario);
+  // What the truth carries for the camera: the tackers, or the samples of the visible surface.
+  report.surface = o.observe == TrackedObservation::Surface;
+  Eigen::MatrixX3d tackers;
+  if (report.surface) {
+    const SurfaceSamples seen = sampleVisibleSurface(
+        toTriMesh(*spec.fine, extractBoundary(*spec.fine)), spec.anatomy.anterior,
+        o.surfaceCamera.coverage, o.surfaceCamera.samples, o.camera.seed);
+    tackers = seen.points;
+    report.surfaceAreaFraction = seen.areaFraction;
+    writePointsCsv((dir / "surface_samples.csv").string(), tackers);
+  } else {
+    tackers = placeTackers(*spec.fine, spec.anatomy, o.liver.markers);
+    report.tackers = static_cast<int>(tackers.rows());
+    writePointsCsv((dir / "tackers.csv").string(), tackers);
+  }
+  fs::remove(dir / "markers.csv");  // the liver experiment's markers: not this experiment's
+
+  // The springs' curve: from the atlas built without this liver, or the liver's own.
+  Eigen::MatrixX3d springCurve = spec.curve;
+  if (!o.atlasLiverDir.empty()) {
+    stage("atlas");
+    LeftOutAtlasOptions ao;
+    ao.liverDir = o.atlasLiverDir;
+    ao.scale = o.liver.scale;
+    ao.exclude = fs::path(o.liver.surface).stem().string();
+    ao.cacheDir = o.atlasCacheDir.empty() ? (dir / "atlas").string() : o.atlasCacheDir;
+    TriMesh patient = readSurface(o.liver.surface);
+    patient.V *= o.liver.scale;
+    report.atlas = leftOutAtlasCurve(patient, ao, cb.log);
+    report.atlasUsed = true;
+    springCurve = report.atlas.curve;
+    const std::vector<double> d = distancesToPolyline(springCurve, spec.curve);
+    for (double x : d) report.curveDistanceMean += x / static_cast<double>(d.size());
+    report.curveDistanceMax = *std::max_element(d.begin(), d.end());
+  }
+  writePointsCsv((dir / "spring_curve.csv").string(), springCurve);
+
+  stage("truth");
+  LiverSceneSpec truthSpec = spec;
+  truthSpec.markers = tackers;
+  report.truth = runSimulation(makeLiverTruthScene(truthSpec), (dir / "truth").string(),
+                               cb.simulation, resumable("truth"));
+
+  stage("camera");
+  const MarkerTracks truthTackers =
+      tackerTracksFromRest(dir / "truth" / "markers.csv", tackers, o.restFrames, o.liver.dt);
+  const TriMesh modelSurface = toTriMesh(*spec.coarse, extractBoundary(*spec.coarse));
   LiverSceneSpec estimationSpec = spec;
   estimationSpec.springCurve = springCurve;
-  estimationSpec.markers = reg.markersAtRest;
   estimationSpec.ligamentNodes.clear();
+  std::optional<PointCloudSettings> cloud;
+  fs::path observedTracks;
+  if (report.surface) {
+    cloud = observeSurface(o, truthTackers, modelSurface, spec, dir, report, stage);
+  } else {
+    const TackerObservations seen =
+        observeTackers(o, truthTackers, tackers, modelSurface, spec, dir, report, stage);
+    observedTracks = seen.tracks;
+    estimationSpec.markers = seen.markersAtRest;
+  }
+
+  stage("estimate");
   Scene estimation = makeLiverEstimationScene(estimationSpec);
   {
     AssimilationSettings& s = estimation.assimilation.value();
-    s.observations.tracks =
-        readStepFrames(observedTracks.string(), report.markers, "tracked tackers", estimation.dt(),
-                       estimation.steps, 0.0);
+    if (cloud) {
+      s.observations.pointCloud = std::move(cloud);
+    } else {
+      s.observations.tracks =
+          readStepFrames(observedTracks.string(), report.markers, "tracked tackers",
+                         estimation.dt(), estimation.steps, 0.0);
+    }
     s.observations.noiseStddev = 0.0;  // the camera's noise is in the data already
     s.validationTruth = readStepFrames((dir / "truth" / "validation.csv").string(),
                                        static_cast<int>(estimation.validation.points.size()),
@@ -300,22 +407,31 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
       f << fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", s.name, s.peakMeanMm, s.peakMaxMm,
                        s.overTime.meanMm, s.overTime.meanStdMm, s.overTime.maxMm);
     const TrackingScore& t = report.tracking;
+    f << fmt::format("# peak step {} (t = {:.6g} s), fiducials' mean displacement {:.6g} mm\n",
+                     report.peakStep, report.peakStep * o.liver.dt, report.peakDisplacementMm);
+    if (report.surface)
+      f << fmt::format(
+          "# surface camera: {:.6g} of the area seen, {} samples, {} points per frame, {} "
+          "outliers of {} points\n",
+          report.surfaceAreaFraction, o.surfaceCamera.samples, o.surfaceCamera.pointsPerFrame,
+          report.cloudOutliers, report.cloudPoints);
+    else
+      f << fmt::format(
+          "# tracking: {} tackers, {} tracks, {} switches, {} wrong labels, {} of {} spurious "
+          "labelled, {} tacker detections unlabelled; the other method: {} tracks, {} switches, "
+          "{} wrong labels\n",
+          report.tackers, t.tracks, t.identitySwitches, t.wrongLabels, t.spuriousLabelled,
+          report.spuriousDetections, t.unlabelled, report.otherMethod.tracks,
+          report.otherMethod.identitySwitches, report.otherMethod.wrongLabels);
     f << fmt::format(
-        "# peak step {} (t = {:.6g} s), fiducials' mean displacement {:.6g} mm\n"
-        "# tracking: {} tackers, {} tracks, {} switches, {} wrong labels, {} of {} spurious "
-        "labelled, {} tacker detections unlabelled; the other method: {} tracks, {} switches, {} "
-        "wrong labels\n"
         "# registration: rms {:.6g} mm, overlap {:.6g}, error mean {:.6g} mm max {:.6g} mm, "
-        "{:.6g} deg; markers {:.6g} mm off their tackers\n"
+        "{:.6g} deg; markers {:.6g} mm off their tackers; {} points registered\n"
         "# springs' curve to the expert's: mean {:.6g} mm, max {:.6g} mm{}\n"
         "# assimilation median step {:.6g} ms; atlas build {:.6g} s, transfer {:.6g} s; truth "
         "{:.6g} s; total {:.6g} s\n",
-        report.peakStep, report.peakStep * o.liver.dt, report.peakDisplacementMm, report.tackers,
-        t.tracks, t.identitySwitches, t.wrongLabels, t.spuriousLabelled, report.spuriousDetections,
-        t.unlabelled, report.otherMethod.tracks, report.otherMethod.identitySwitches,
-        report.otherMethod.wrongLabels, 1e3 * report.registration.rms, report.registration.overlap,
+        1e3 * report.registration.rms, report.registration.overlap,
         1e3 * report.registrationErrorMean, 1e3 * report.registrationErrorMax,
-        report.registrationAngleDegrees, 1e3 * report.markerOffsetMean,
+        report.registrationAngleDegrees, 1e3 * report.markerOffsetMean, report.registeredPoints,
         1e3 * report.curveDistanceMean, 1e3 * report.curveDistanceMax,
         report.atlasUsed ? "" : " (no atlas: the expert curve)", report.assimilation.medianStepMs,
         report.atlas.buildSeconds, report.atlas.transferSeconds, report.truth.wallSeconds,

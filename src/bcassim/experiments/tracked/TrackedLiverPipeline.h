@@ -11,22 +11,29 @@
 #include "bcassim/experiments/liver/ErrorsOverTime.h"
 #include "bcassim/experiments/liver/LiverPipeline.h"
 #include "bcassim/experiments/tracked/SyntheticCamera.h"
+#include "bcassim/experiments/tracked/SyntheticDepthCamera.h"
 #include "bcassim/experiments/tracked/TackerRegistration.h"
 #include "bcassim/experiments/tracked/TrackingScore.h"
 #include "bcassim/tracking/MarkerTracker.h"
 
 namespace bcassim {
 
+// What the camera gives: tracked tackers (thesis §5.3), or a partial surface point cloud without
+// correspondences (a depth sensor; the point-cloud variant).
+enum class TrackedObservation { Tackers, Surface };
+
 struct TrackedLiverOptions {
   // The liver experiment's values (meshes, truth, loads, time grid, spring groups, filter), with
   // markers = the number of tackers, validationPoints = the inner fiducials (thesis: 9) and
   // noise = the camera's (the standard deviation the filter assumes; the data carry their own).
   LiverScenarioOptions liver = defaultLiver();
-  CameraOptions camera;
+  TrackedObservation observe = TrackedObservation::Tackers;
+  CameraOptions camera;  // pose, noise and seed for both; dropouts and spurious: tackers only
+  SurfaceCameraOptions surfaceCamera;  // observe = Surface
   TrackerOptions tracker;
   // The camera sees the liver at rest for restFrames frames (t = -restFrames dt .. 0, as while
   // the tackers are placed) before the manipulation starts; the first registrationFrames frames
-  // are averaged per tacker and registered (ICP).
+  // are averaged per tacker and registered (ICP); with a surface, their points together are.
   int restFrames = 10;
   int registrationFrames = 11;
   // Annotated livers (NAME.obj + NAME.eseg) for the atlas built without this liver; empty: no
@@ -54,6 +61,10 @@ struct ScenarioTre {
 struct TrackedLiverReport {
   LiverScenario scenario;  // meshes, anatomy, loads (scenes: those of the liver experiment)
   int tackers = 0;
+  bool surface = false;                    // observed by a point cloud (below), not tackers
+  double surfaceAreaFraction = 0;          // of the truth's surface the camera sees
+  int cloudPoints = 0, cloudOutliers = 0;  // over all frames
+  int registeredPoints = 0;                // cloud points registered (ICP)
   bool atlasUsed = false;
   AtlasCurve atlas;
   // Distance of the springs' curve to the expert's: mean and max over the springs' curve points
