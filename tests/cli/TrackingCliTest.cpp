@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -226,6 +227,33 @@ TEST(RegisterCli, IcpRecoversAKnownTransformFromPartOfTheSurface) {
   EXPECT_EQ((M.topRightCorner<3, 1>()), t.translation);
   const Eigen::MatrixX3d moved = readPoints((c.dir / "out" / "moved_points.csv").string());
   EXPECT_LT((moved - c.cameraToModel.apply(c.points)).cwiseAbs().maxCoeff(), 1e-7);
+}
+
+// A dozen noisy markers: with --median-factor 0 every one of them is kept (none is an outlier,
+// and each holds the pose); the pose is then as good as 0.3 mm of noise on 14 points allows.
+TEST(RegisterCli, MedianFactorZeroKeepsEveryMarker) {
+  const RegisterCase c = makeRegisterCase(10.0, Vec3(0.004, -0.003, 0.005));
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, 3e-4);
+  const auto step = static_cast<Eigen::Index>(c.points.rows() / 14);
+  Eigen::MatrixX3d markers(14, 3);
+  for (Eigen::Index k = 0; k < 14; ++k)
+    markers.row(k) =
+        c.points.row(k * step) + Eigen::RowVector3d(noise(rng), noise(rng), noise(rng));
+  writePointsCsv((c.dir / "markers.csv").string(), markers);
+  const test::CliResult r =
+      runBcassim(c.dir, "register model.vtu markers.csv --median-factor 0 --out out");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "overlap: 100.0 % (14 of 14 points)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "iterations: ")) << r.out;
+  const RigidTransform t = readTransform(c.dir / "out" / "transform.csv");
+  EXPECT_LT((t.apply(markers) - c.cameraToModel.apply(markers)).rowwise().norm().maxCoeff(), 3e-3);
+  const test::CliResult bad =
+      runBcassim(c.dir, "register model.vtu markers.csv --median-factor -1");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_EQ(bad.err,
+            "bcassim: error: --median-factor: expected a number >= 0, got '-1' (see 'bcassim "
+            "--help')\n");
 }
 
 TEST(RegisterCli, KabschWithModelIdsIsExact) {

@@ -318,10 +318,13 @@ void printTrackedReport(const TrackedLiverReport& r, const std::string& outDir) 
         100 * r.surfaceAreaFraction, r.cloudPoints, r.cloudOutliers);
     fmt::print(
         "registration (trimmed ICP, {} points of the first frames): rms {:.2f} mm, overlap {:.0f} "
-        "%, {} iterations; error {:.2f} mm mean, {:.2f} mm max, {:.2f} deg\n",
+        "%, {} iterations{}; error {:.2f} mm mean, {:.2f} mm max, {:.2f} deg\n",
         r.registeredPoints, 1e3 * r.registration.rms, 100 * r.registration.overlap,
-        r.registration.iterations, 1e3 * r.registrationErrorMean, 1e3 * r.registrationErrorMax,
-        r.registrationAngleDegrees);
+        r.registration.iterations,
+        r.registration.converged ? ""
+                                 : fmt::format(" (not converged: the last moved {:.2g} mm)",
+                                               1e3 * r.registration.lastMove),
+        1e3 * r.registrationErrorMean, 1e3 * r.registrationErrorMax, r.registrationAngleDegrees);
   } else {
     fmt::print(
         "camera: {} detections ({} spurious) of {} tackers; tracking: {} tracks, {} identity "
@@ -333,11 +336,15 @@ void printTrackedReport(const TrackedLiverReport& r, const std::string& outDir) 
         "labels\n",
         r.otherMethod.tracks, r.otherMethod.identitySwitches, r.otherMethod.wrongLabels);
     fmt::print(
-        "registration (ICP, {} markers): rms {:.2f} mm, overlap {:.0f} %, {} iterations; error "
+        "registration (ICP, {} markers): rms {:.2f} mm, overlap {:.0f} %, {} iterations{}; error "
         "{:.2f} mm mean, {:.2f} mm max, {:.2f} deg; markers {:.2f} mm from their tackers\n",
         r.markers, 1e3 * r.registration.rms, 100 * r.registration.overlap,
-        r.registration.iterations, 1e3 * r.registrationErrorMean, 1e3 * r.registrationErrorMax,
-        r.registrationAngleDegrees, 1e3 * r.markerOffsetMean);
+        r.registration.iterations,
+        r.registration.converged ? ""
+                                 : fmt::format(" (not converged: the last moved {:.2g} mm)",
+                                               1e3 * r.registration.lastMove),
+        1e3 * r.registrationErrorMean, 1e3 * r.registrationErrorMax, r.registrationAngleDegrees,
+        1e3 * r.markerOffsetMean);
   }
   fmt::print("\n{:<12} {:>22}   (prior {:.4g} ± {:.3g})\n", "parameter", "estimate ± σ",
              r.assimilation.parameters.empty() ? 0.0 : r.assimilation.parameters[0].initialMean,

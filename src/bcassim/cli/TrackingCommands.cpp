@@ -307,6 +307,12 @@ class RegisterCommand : public Command {
                    "inlier fraction)")
         ->check(kFraction)
         ->capture_default_str();
+    checkNonNegative(
+        app.add_option("--median-factor", icp_.medianFactor,
+                       "ICP: points farther from the surface than this times the median distance "
+                       "are left out every iteration (0: none; a dozen markers: use 0, every one "
+                       "of them holds the pose)"))
+        ->capture_default_str();
     app.add_option("--max-iterations", icp_.maxIterations,
                    "ICP: most iterations of each refinement")
         ->check(CLI::PositiveNumber)
@@ -324,6 +330,7 @@ class RegisterCommand : public Command {
     RigidTransform transform;
     double rms = 0.0, overlap = 1.0;
     int iterations = 0, used = 0;
+    std::string convergence;  // ICP only
     // The unit check's own line, unchanged; the other input errors name the points' file.
     requireMatchingUnits(points, model.surface);
     const Eigen::MatrixX3d targets =
@@ -345,6 +352,11 @@ class RegisterCommand : public Command {
         rms = r.rms;
         overlap = r.overlap;
         iterations = r.iterations;
+        convergence = r.converged ? " (converged)"
+                                  : fmt::format(
+                                        " (--max-iterations reached; the last moved a point by "
+                                        "{:.3g} m)",
+                                        r.lastMove);
         used = static_cast<int>(std::lround(r.overlap * static_cast<double>(points.rows())));
         fmt::print(
             "method: trimmed point-to-plane ICP, {} starts probed, the best {} to convergence, "
@@ -371,7 +383,7 @@ class RegisterCommand : public Command {
     const double angle = Eigen::AngleAxisd(transform.rotation).angle() * 180.0 / std::numbers::pi;
     fmt::print("rms residual: {:.6g} m ({:.3f} mm)\n", rms, 1e3 * rms);
     fmt::print("overlap: {:.1f} % ({} of {} points)\n", 100.0 * overlap, used, points.rows());
-    fmt::print("iterations: {}\n", iterations);
+    fmt::print("iterations: {}{}\n", iterations, convergence);
     fmt::print("transform: rotation {:.3f} deg, translation {:.6g} m\n", angle,
                transform.translation.norm());
     fmt::print(

@@ -181,10 +181,29 @@ RigidTransform pointToPlaneStep(const Eigen::MatrixX3d& moved, const Pairs& pair
   return step;
 }
 
+// How well a pose fits, comparable between poses: the mean over the closest keepFraction of the
+// points of min(d, cap)^2, with one cap for all the poses compared (medianFactor times the
+// smallest of their medians, at least minThreshold; none when medianFactor is 0). A pose is not
+// rewarded for leaving points out: a dozen tackers fitted 54 degrees off with 4 of 14 points
+// trimmed had a smaller median, and a larger score, than the true pose with all of them.
+double cappedScore(const Eigen::VectorXd& distances, double cap, double keepFraction) {
+  std::vector<double> d2(static_cast<size_t>(distances.size()));
+  for (Eigen::Index i = 0; i < distances.size(); ++i)
+    d2[static_cast<size_t>(i)] = std::pow(std::min(distances[i], cap), 2);
+  std::sort(d2.begin(), d2.end());
+  const auto kept =
+      static_cast<size_t>(std::max(1.0, std::floor(keepFraction * static_cast<double>(d2.size()))));
+  double sum = 0.0;
+  for (size_t i = 0; i < kept; ++i) sum += d2[i];
+  return sum / static_cast<double>(kept);
+}
+
 struct IcpRun {
   RigidTransform transform;
   Pairs pairs;  // at `transform`
   int iterations = 0;
+  bool converged = false;
+  double lastMove = 0.0;  // m, the last iteration's largest move of a point
 };
 
 IcpRun runIcp(const Eigen::MatrixX3d& points, const PlaneTarget& target, RigidTransform transform,
@@ -205,7 +224,11 @@ IcpRun runIcp(const Eigen::MatrixX3d& points, const PlaneTarget& target, RigidTr
     moved = std::move(movedNow);
     run.pairs = findPairs(moved, target, o);
     run.iterations = it + 1;
-    if (largestMove <= o.tolerance || (it > 0 && cycle <= o.tolerance)) break;
+    run.lastMove = largestMove;
+    if (largestMove <= o.tolerance || (it > 0 && cycle <= o.tolerance)) {
+      run.converged = true;
+      break;
+    }
   }
   run.transform = transform;
   return run;
@@ -237,21 +260,34 @@ SurfaceRegistration registerPointsToSurface(const Eigen::MatrixX3d& points, cons
   tbb::parallel_for(size_t{0}, starts.size(), [&](size_t k) {
     probes[k] = runIcp(probePoints, target, starts[k], options.probeIterations, options);
   });
+  // One cap for the runs compared (cappedScore).
+  auto scoresOf = [&](const std::vector<IcpRun>& runs) {
+    double smallestMedian = std::numeric_limits<double>::infinity();
+    for (const IcpRun& r : runs) smallestMedian = std::min(smallestMedian, r.pairs.median);
+    const double cap = options.medianFactor > 0.0
+                           ? std::max(options.medianFactor * smallestMedian, options.minThreshold)
+                           : std::numeric_limits<double>::infinity();
+    std::vector<double> scores;
+    for (const IcpRun& r : runs)
+      scores.push_back(cappedScore(r.pairs.distances, cap, options.keepFraction));
+    return scores;
+  };
+  const std::vector<double> probeScores = scoresOf(probes);
   std::vector<int> order(starts.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
   std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return probes[a].pairs.median < probes[b].pairs.median; });
+                   [&](int a, int b) { return probeScores[a] < probeScores[b]; });
   order.resize(std::min<size_t>(order.size(), options.refinedStarts));
   std::vector<IcpRun> converged(order.size());
   tbb::parallel_for(size_t{0}, order.size(), [&](size_t r) {
     converged[r] =
         runIcp(probePoints, target, probes[order[r]].transform, options.maxIterations, options);
   });
+  const std::vector<double> scores = scoresOf(converged);
   size_t deepest = 0;
-  for (size_t r = 1; r < order.size(); ++r) {
-    const double m = converged[r].pairs.median, d = converged[deepest].pairs.median;
-    if (m < d || (m == d && order[r] < order[deepest])) deepest = r;
-  }
+  for (size_t r = 1; r < order.size(); ++r)
+    if (scores[r] < scores[deepest] || (scores[r] == scores[deepest] && order[r] < order[deepest]))
+      deepest = r;
   const int best = order[deepest];
   const IcpRun refined =
       probeCount == points.rows()
@@ -263,6 +299,8 @@ SurfaceRegistration registerPointsToSurface(const Eigen::MatrixX3d& points, cons
   result.overlap =
       static_cast<double>(refined.pairs.kept.size()) / static_cast<double>(points.rows());
   result.iterations = refined.iterations;
+  result.converged = refined.converged;
+  result.lastMove = refined.lastMove;
   result.start = best;
   return result;
 }

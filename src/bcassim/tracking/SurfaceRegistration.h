@@ -20,9 +20,11 @@ struct SurfaceRegistrationOptions {
   // ICP starts: each rotation about the centroid of the initially moved points, after `initial`.
   std::vector<Eigen::Matrix3d> startRotations = defaultStartRotations();
   // Every start is probed with probeIterations ICP iterations on at most probePoints of the
-  // points (evenly spaced rows); the refinedStarts best probes (smallest median distance) go on
-  // to convergence on those points, and the deepest of them (smallest median) is refined on all
-  // points. A dozen markers on a smooth organ give ICP several minima a few millimetres apart in
+  // points (evenly spaced rows); the refinedStarts best probes go on to convergence on those
+  // points, and the best of them is refined on all points. "Best": the smallest mean of
+  // min(distance, cap)^2 over the closest keepFraction of the points, one cap for all the runs
+  // compared (medianFactor x their smallest median): a pose gains nothing by trimming points
+  // away. A dozen markers on a smooth organ give ICP several minima a few millimetres apart in
   // residual: refining a single probe settled in the wrong one (LiTS-11 of pipeline-tracked).
   int probeIterations = 30;
   int probePoints = 500;
@@ -43,7 +45,11 @@ struct SurfaceRegistration {
   double rms = 0.0;          // m: RMS distance of the kept points to the surface, at the end
   double overlap = 0.0;      // kept points / all points, at the end
   int iterations = 0;        // ICP iterations of the refinement
-  int start = 0;             // the start that won: index into startRotations
+  // The refinement met the tolerance before maxIterations; if not, lastMove (m) says how far its
+  // last iteration still moved a point (a pose sliding slowly along a smooth surface).
+  bool converged = false;
+  double lastMove = 0.0;
+  int start = 0;  // the start that won: index into startRotations
 };
 
 // Moves `points` (#P by 3, m, finite, #P >= 6) onto `surface` (m, #F >= 1) by minimising the

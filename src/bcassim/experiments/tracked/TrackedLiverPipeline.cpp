@@ -424,12 +424,16 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
           report.spuriousDetections, t.unlabelled, report.otherMethod.tracks,
           report.otherMethod.identitySwitches, report.otherMethod.wrongLabels);
     f << fmt::format(
-        "# registration: rms {:.6g} mm, overlap {:.6g}, error mean {:.6g} mm max {:.6g} mm, "
+        "# registration: rms {:.6g} mm, overlap {:.6g}, {} iterations ({}), error mean {:.6g} mm "
+        "max {:.6g} mm, "
         "{:.6g} deg; markers {:.6g} mm off their tackers; {} points registered\n"
         "# springs' curve to the expert's: mean {:.6g} mm, max {:.6g} mm{}\n"
         "# assimilation median step {:.6g} ms; atlas build {:.6g} s, transfer {:.6g} s; truth "
         "{:.6g} s; total {:.6g} s\n",
-        1e3 * report.registration.rms, report.registration.overlap,
+        1e3 * report.registration.rms, report.registration.overlap, report.registration.iterations,
+        report.registration.converged ? "converged"
+                                      : fmt::format("not converged, the last moved {:.3g} mm",
+                                                    1e3 * report.registration.lastMove),
         1e3 * report.registrationErrorMean, 1e3 * report.registrationErrorMax,
         report.registrationAngleDegrees, 1e3 * report.markerOffsetMean, report.registeredPoints,
         1e3 * report.curveDistanceMean, 1e3 * report.curveDistanceMax,
