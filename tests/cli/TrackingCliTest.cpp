@@ -241,10 +241,18 @@ TEST(RegisterCli, MedianFactorZeroKeepsEveryMarker) {
     markers.row(k) =
         c.points.row(k * step) + Eigen::RowVector3d(noise(rng), noise(rng), noise(rng));
   writePointsCsv((c.dir / "markers.csv").string(), markers);
+  const test::CliResult trimmed = runBcassim(c.dir, "register model.vtu markers.csv --out t");
+  ASSERT_EQ(trimmed.exitCode, 0) << trimmed.err;
+  EXPECT_EQ(contains(trimmed.out, "overlap: 100.0 %"),
+            !contains(trimmed.out,
+                      "points out; markers without outliers hold the pose together: "
+                      "--median-factor 0 keeps them all\n"))
+      << trimmed.out;
   const test::CliResult r =
       runBcassim(c.dir, "register model.vtu markers.csv --median-factor 0 --out out");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "overlap: 100.0 % (14 of 14 points)")) << r.out;
+  EXPECT_FALSE(contains(r.out, "note:")) << r.out;
   EXPECT_TRUE(contains(r.out, "iterations: ")) << r.out;
   const RigidTransform t = readTransform(c.dir / "out" / "transform.csv");
   EXPECT_LT((t.apply(markers) - c.cameraToModel.apply(markers)).rowwise().norm().maxCoeff(), 3e-3);
