@@ -89,20 +89,28 @@ void bindTracking(py::module_& m) {
       .def_readonly("transform", &SurfaceRegistration::transform, "points' frame -> surface frame")
       .def_readonly("rms", &SurfaceRegistration::rms, "m, of the kept points")
       .def_readonly("overlap", &SurfaceRegistration::overlap, "kept points / all points")
-      .def_readonly("iterations", &SurfaceRegistration::iterations);
+      .def_readonly("iterations", &SurfaceRegistration::iterations)
+      .def_readonly("converged", &SurfaceRegistration::converged,
+                    "the refinement met the tolerance before max_iterations")
+      .def_readonly("last_move", &SurfaceRegistration::lastMove,
+                    "m, how far its last iteration moved a point");
   m.def(
       "register_points_to_surface",
       [](const Eigen::MatrixX3d& points, const TriMesh& surface, double keepFraction,
-         const std::optional<RigidTransform>& initial) {
+         const std::optional<RigidTransform>& initial, double medianFactor) {
         SurfaceRegistrationOptions o;
         o.keepFraction = keepFraction;
+        o.medianFactor = medianFactor;
         if (initial) o.initial = *initial;
         py::gil_scoped_release release;
         return registerPointsToSurface(points, surface, o);
       },
       "points"_a, "surface"_a, "keep_fraction"_a = 1.0, "initial"_a = py::none(),
+      "median_factor"_a = SurfaceRegistrationOptions{}.medianFactor,
       "Rigid transform moving a (partial) point cloud onto a surface: trimmed point-to-plane ICP "
-      "from several start rotations; keep_fraction: expected inlier fraction");
+      "from several start rotations; keep_fraction: expected inlier fraction; median_factor: "
+      "points farther than this times the median distance are left out (0: none; a dozen "
+      "markers: 0)");
 }
 
 }  // namespace bcassim::python

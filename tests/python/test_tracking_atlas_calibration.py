@@ -50,6 +50,10 @@ def test_points_are_registered_rigidly_onto_a_surface():
     np.testing.assert_allclose(result.transform.rotation, R, atol=1e-6)
     np.testing.assert_allclose(result.transform.translation, t, atol=1e-6)
     assert result.rms < 1e-6 and result.overlap == 1.0
+    assert result.converged and result.last_move <= 1e-10
+    untrimmed = bcassim.tracking.register_points_to_surface(points[::40], surface, median_factor=0)
+    np.testing.assert_allclose(untrimmed.transform.rotation, R, atol=1e-6)
+    assert untrimmed.overlap == 1.0
     with pytest.raises(bcassim.InputError):
         bcassim.tracking.register_points_to_surface(points[:3], surface)
 
