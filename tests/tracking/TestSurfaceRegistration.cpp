@@ -8,12 +8,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <numeric>
 #include <random>
 
 #include "bcassim/Error.h"
 #include "bcassim/mesh/ClosestPoint.h"
 #include "bcassim/mesh/MeshGenerators.h"
+#include "bcassim/mesh/VisibleSurface.h"
 #include "bcassim/tracking/PointCloudUnits.h"
 #include "bcassim/tracking/SurfaceRegistration.h"
 
@@ -33,53 +33,6 @@ TriMesh liverLikeSurface() {
     s.V.row(i) << 0.10 * x, 0.075 * y * (0.8 + 0.2 * taper), 0.055 * zz * taper;
   }
   return s;
-}
-
-struct PartialView {
-  Eigen::MatrixX3d points;  // on the surface, m
-  double areaFraction = 0;  // of the surface that the points cover
-};
-
-// `count` points uniformly (by area) on the faces most turned towards `view`, taken until they
-// cover `fraction` of the surface's area: what a camera looking along -view sees.
-PartialView partialView(const TriMesh& s, const Vec3& view, double fraction, int count,
-                        unsigned seed) {
-  const Eigen::Index nf = s.F.rows();
-  std::vector<double> area(nf), facing(nf);
-  for (Eigen::Index f = 0; f < nf; ++f) {
-    const Vec3 a = s.V.row(s.F(f, 0)), b = s.V.row(s.F(f, 1)), c = s.V.row(s.F(f, 2));
-    const Vec3 n = (b - a).cross(c - a);
-    area[f] = 0.5 * n.norm();
-    facing[f] = n.normalized().dot(view.normalized());
-  }
-  std::vector<int> order(nf);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return facing[a] > facing[b]; });
-  const double total = std::accumulate(area.begin(), area.end(), 0.0);
-  std::vector<int> faces;
-  std::vector<double> cumulative;
-  double covered = 0.0;
-  for (int f : order) {
-    if (covered >= fraction * total) break;
-    faces.push_back(f);
-    covered += area[f];
-    cumulative.push_back(covered);
-  }
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  PartialView out;
-  out.areaFraction = covered / total;
-  out.points.resize(count, 3);
-  for (int i = 0; i < count; ++i) {
-    const size_t k = std::lower_bound(cumulative.begin(), cumulative.end(), unit(rng) * covered) -
-                     cumulative.begin();
-    const int f = faces[std::min(k, faces.size() - 1)];
-    double u = unit(rng), v = unit(rng);
-    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-    out.points.row(i) =
-        (1.0 - u - v) * s.V.row(s.F(f, 0)) + u * s.V.row(s.F(f, 1)) + v * s.V.row(s.F(f, 2));
-  }
-  return out;
 }
 
 // Camera pose: the camera frame is the surface frame moved by 40 degrees about an oblique axis
@@ -104,7 +57,7 @@ double largestPointError(const RigidTransform& a, const RigidTransform& b,
 
 TEST(SurfaceRegistration, RecoversTheTransformFromAPartialViewExactly) {
   const TriMesh surface = liverLikeSurface();
-  const PartialView view = partialView(surface, Vec3(0.2, 1.0, 0.6), 0.3, 1500, 1);
+  const SurfaceSamples view = sampleVisibleSurface(surface, Vec3(0.2, 1.0, 0.6), 0.3, 1500, 1);
   ASSERT_GT(view.areaFraction, 0.2);
   ASSERT_LT(view.areaFraction, 0.4);
   const RigidTransform truth = cameraToSurface();
@@ -173,7 +126,7 @@ double cappedRms(const RigidTransform& t, const Eigen::MatrixX3d& P, const TriMe
 TEST(SurfaceRegistration, RecoversFromTenCentimetresAndTwentyDegreesOff) {
   // The pose error the liver pipeline starts from: the view is half the organ's size away.
   const TriMesh surface = liverLikeSurface();
-  const PartialView view = partialView(surface, Vec3(-0.3, 1.0, 0.2), 0.25, 1000, 5);
+  const SurfaceSamples view = sampleVisibleSurface(surface, Vec3(-0.3, 1.0, 0.2), 0.25, 1000, 5);
   RigidTransform truth;
   truth.rotation =
       Eigen::AngleAxisd(20 * kDegree, Vec3(0.3, 1.0, -0.4).normalized()).toRotationMatrix();
@@ -187,7 +140,7 @@ TEST(SurfaceRegistration, RecoversFromTenCentimetresAndTwentyDegreesOff) {
 
 TEST(SurfaceRegistration, NoiseAndOutliersKeepTheErrorBounded) {
   const TriMesh surface = liverLikeSurface();
-  const PartialView view = partialView(surface, Vec3(0.2, 1.0, 0.6), 0.3, 1500, 2);
+  const SurfaceSamples view = sampleVisibleSurface(surface, Vec3(0.2, 1.0, 0.6), 0.3, 1500, 2);
   const RigidTransform truth = cameraToSurface();
   Eigen::MatrixX3d cloud = truth.inverse().apply(view.points);
   // 1 mm noise per coordinate on every point, then 10 % of the points replaced by outliers
@@ -243,7 +196,7 @@ TEST(SurfaceRegistration, NoiseAndOutliersKeepTheErrorBounded) {
 
 TEST(SurfaceRegistration, MillimetresForMetresIsReportedWithBothSizes) {
   const TriMesh surface = liverLikeSurface();
-  const PartialView view = partialView(surface, Vec3(0.2, 1.0, 0.6), 0.3, 500, 4);
+  const SurfaceSamples view = sampleVisibleSurface(surface, Vec3(0.2, 1.0, 0.6), 0.3, 500, 4);
   const Eigen::MatrixX3d millimetres = 1000.0 * view.points;
   const double cloudSize =
       (millimetres.colwise().maxCoeff() - millimetres.colwise().minCoeff()).norm();
@@ -312,7 +265,7 @@ TEST(SurfaceRegistration, TooFewOrNonFinitePointsAreInputErrors) {
 TEST(SurfaceRegistration, ADozenTackersEndAtLeastAsDeepAsIcpFromTheTruth) {
   const TriMesh surface = liverLikeSurface();
   for (unsigned seed = 1; seed <= 20; ++seed) {
-    const PartialView view = partialView(surface, Vec3(0.2, 1.0, 0.6), 0.3, 14, seed);
+    const SurfaceSamples view = sampleVisibleSurface(surface, Vec3(0.2, 1.0, 0.6), 0.3, 14, seed);
     std::mt19937 rng(100 + seed);
     std::normal_distribution<double> gauss(0.0, 1.0);
     RigidTransform truth;

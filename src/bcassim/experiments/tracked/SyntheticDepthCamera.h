@@ -3,14 +3,11 @@
 // camera, with noise and a few outliers, in the camera's frame, without correspondences. The
 // point-cloud variant of pipeline-tracked (thesis §5.3 with a surface instead of tackers). SI.
 #pragma once
-#include <cstdint>
 #include <vector>
 
-#include "bcassim/Types.h"
 #include "bcassim/experiments/tracked/SyntheticCamera.h"
 #include "bcassim/io/CsvTracks.h"
 #include "bcassim/io/DetectionsCsv.h"
-#include "bcassim/mesh/TriMesh.h"
 
 namespace bcassim {
 
@@ -20,17 +17,6 @@ struct SurfaceCameraOptions {
   int pointsPerFrame = 500;  // of those, drawn afresh every frame (a sensor's pixels move)
   double outliers = 0.01;    // fraction of each frame's points replaced by outliers
 };
-
-struct SurfaceSamples {
-  Eigen::MatrixX3d points;    // #samples by 3, on the surface, m
-  double areaFraction = 0.0;  // of the surface the faces they lie on cover
-};
-
-// `count` points uniformly by area on the faces of `surface` most turned towards `view` (a unit
-// vector from the organ to the camera), taken in that order until `coverage` of the area.
-// Deterministic for a seed. Throws InputError for a coverage outside (0, 1] or count < 1.
-SurfaceSamples sampleVisibleSurface(const TriMesh& surface, const Vec3& view, double coverage,
-                                    int count, std::uint64_t seed);
 
 struct SurfaceRecording {
   std::vector<TimedPoints> frames;         // points in the camera frame, shuffled

@@ -19,6 +19,7 @@
 #include "bcassim/io/PointCsvWriter.h"
 #include "bcassim/io/SurfaceReader.h"
 #include "bcassim/mesh/BoundarySurface.h"
+#include "bcassim/mesh/VisibleSurface.h"
 #include "bcassim/scene/ModelParameter.h"
 #include "bcassim/scene/NodePoints.h"
 #include "bcassim/scene/SceneBuilders.h"
