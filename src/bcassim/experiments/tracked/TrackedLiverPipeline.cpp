@@ -275,18 +275,18 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
   const LiverSceneSpec spec = prepareLiverSceneSpec(o.liver, outDir, report.scenario);
   // What the truth carries for the camera: the tackers, or the samples of the visible surface.
   report.surface = o.observe == TrackedObservation::Surface;
-  Eigen::MatrixX3d tackers;
+  Eigen::MatrixX3d carried;  // on the truth's surface, at rest
   if (report.surface) {
     const SurfaceSamples seen = sampleVisibleSurface(
         toTriMesh(*spec.fine, extractBoundary(*spec.fine)), spec.anatomy.anterior,
         o.surfaceCamera.coverage, o.surfaceCamera.samples, o.camera.seed);
-    tackers = seen.points;
+    carried = seen.points;
     report.surfaceAreaFraction = seen.areaFraction;
-    writePointsCsv((dir / "surface_samples.csv").string(), tackers);
+    writePointsCsv((dir / "surface_samples.csv").string(), carried);
   } else {
-    tackers = placeTackers(*spec.fine, spec.anatomy, o.liver.markers);
-    report.tackers = static_cast<int>(tackers.rows());
-    writePointsCsv((dir / "tackers.csv").string(), tackers);
+    carried = placeTackers(*spec.fine, spec.anatomy, o.liver.markers);
+    report.tackers = static_cast<int>(carried.rows());
+    writePointsCsv((dir / "tackers.csv").string(), carried);
   }
   fs::remove(dir / "markers.csv");  // the liver experiment's markers: not this experiment's
 
@@ -312,13 +312,13 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
 
   stage("truth");
   LiverSceneSpec truthSpec = spec;
-  truthSpec.markers = tackers;
+  truthSpec.markers = carried;
   report.truth = runSimulation(makeLiverTruthScene(truthSpec), (dir / "truth").string(),
                                cb.simulation, resumable("truth"));
 
   stage("camera");
-  const MarkerTracks truthTackers =
-      tackerTracksFromRest(dir / "truth" / "markers.csv", tackers, o.restFrames, o.liver.dt);
+  const MarkerTracks truthCarried =
+      tackerTracksFromRest(dir / "truth" / "markers.csv", carried, o.restFrames, o.liver.dt);
   const TriMesh modelSurface = toTriMesh(*spec.coarse, extractBoundary(*spec.coarse));
   LiverSceneSpec estimationSpec = spec;
   estimationSpec.springCurve = springCurve;
@@ -326,10 +326,10 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
   std::optional<PointCloudSettings> cloud;
   fs::path observedTracks;
   if (report.surface) {
-    cloud = observeSurface(o, truthTackers, modelSurface, spec, dir, report, stage);
+    cloud = observeSurface(o, truthCarried, modelSurface, spec, dir, report, stage);
   } else {
     const TackerObservations seen =
-        observeTackers(o, truthTackers, tackers, modelSurface, spec, dir, report, stage);
+        observeTackers(o, truthCarried, carried, modelSurface, spec, dir, report, stage);
     observedTracks = seen.tracks;
     estimationSpec.markers = seen.markersAtRest;
   }
