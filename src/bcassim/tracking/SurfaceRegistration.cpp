@@ -302,9 +302,9 @@ SurfaceRegistration registerPointsToSurface(const Eigen::MatrixX3d& points, cons
     const double cap = options.medianFactor > 0.0
                            ? std::max(options.medianFactor * smallestMedian, options.minThreshold)
                            : std::numeric_limits<double>::infinity();
-    std::vector<double> scores;
-    for (const IcpRun& r : runs)
-      scores.push_back(cappedScore(r.pairs.distances, cap, options.keepFraction));
+    std::vector<double> scores(runs.size());
+    for (size_t k = 0; k < runs.size(); ++k)
+      scores[k] = cappedScore(runs[k].pairs.distances, cap, options.keepFraction);
     return scores;
   };
   const std::vector<double> probeScores = scoresOf(probes);
