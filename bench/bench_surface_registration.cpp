@@ -1,16 +1,16 @@
 // Rigid registration without correspondences (tracking/SurfaceRegistration): the default search
 // (46 starts probed on <= 500 points, the best 4 to convergence, a line search) against the single
 // probe refined of the first version (13 starts, 10 iterations each on all points, one refined),
-// on a 30 % partial view of the liver-like wedge of the tests (1,500 points with 1 mm noise, 20
-// degrees / 10 cm off) and on 14 tacker-like points (0.3 mm noise). Times only: which poses each
-// finds is what tests/tracking/TestSurfaceRegistration.cpp asserts.
+// on a 30 % partial view of the built-in liver phantom's surface, the wedge of the tests (1,500
+// points with 1 mm noise, 20 degrees / 10 cm off) and on 14 tacker-like points (0.3 mm noise).
+// Times only: which poses each finds is what tests/tracking/TestSurfaceRegistration.cpp asserts.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
 #include <numbers>
 #include <random>
 
-#include "bcassim/mesh/MeshGenerators.h"
+#include "bcassim/experiments/liver/LiverPhantom.h"
 #include "bcassim/mesh/VisibleSurface.h"
 #include "bcassim/tracking/SurfaceRegistration.h"
 
@@ -18,17 +18,6 @@ namespace bcassim {
 namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
-
-TriMesh wedge() {  // as TestSurfaceRegistration's liverLikeSurface
-  TriMesh s = makeIcosphereSurface(1.0, 4);
-  for (Eigen::Index i = 0; i < s.V.rows(); ++i) {
-    const double x = s.V(i, 0), y = s.V(i, 1), z = s.V(i, 2);
-    const double taper = 0.65 + 0.35 * x;
-    const double zz = z < 0 ? 0.6 * z : z;
-    s.V.row(i) << 0.10 * x, 0.075 * y * (0.8 + 0.2 * taper), 0.055 * zz * taper;
-  }
-  return s;
-}
 
 struct Case {
   TriMesh surface;
@@ -38,7 +27,7 @@ struct Case {
 
 Case makeCase(int points, double noise) {
   Case c;
-  c.surface = wedge();
+  c.surface = makeLiverPhantom().surface;
   const SurfaceSamples view = sampleVisibleSurface(c.surface, Vec3(0.2, 1.0, 0.6), 0.3, points, 3);
   RigidTransform truth;
   truth.rotation =
