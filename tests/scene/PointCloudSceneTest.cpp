@@ -73,7 +73,13 @@ TEST(PointCloudScene, ForceParametersAndStaticAssimilationAreRead) {
   const PointCloudSettings& pc = *s.assimilation->observations.pointCloud;
   EXPECT_EQ(pc.frames.size(), 5u);
   for (int k = 1; k <= 4; ++k) EXPECT_EQ(pc.frames[static_cast<size_t>(k)].rows(), 12);
+  EXPECT_EQ(pc.relinearizations, 0);  // one analysis per frame unless asked
   EXPECT_TRUE(s.assimilation->notices.empty());
+  const Scene passes = loadSceneFromString(
+      std::string(kStaticBox) + kLoad +
+          assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", relinearizations: 4}\n"),
+      "scene.yaml", dir.string());
+  EXPECT_EQ(passes.assimilation->observations.pointCloud->relinearizations, 4);
 }
 
 TEST(PointCloudScene, ErrorsNameLineAndKey) {
@@ -113,6 +119,13 @@ TEST(PointCloudScene, ErrorsNameLineAndKey) {
               dir),
       "scene.yaml:10: assimilation.observations.point_cloud: no frame with at least min_points "
       "(13) points within time.steps (4)");
+  EXPECT_EQ(
+      errorOf(b + kLoad +
+                  assimilation(kForceX,
+                               "    point_cloud: {files: \"pc*.txt\", relinearizations: -1}\n"),
+              dir),
+      "scene.yaml:10: assimilation.observations.point_cloud.relinearizations: must be >= 0, "
+      "got -1");
   EXPECT_EQ(errorOf(b + "loads: [{region: {nodes: [20]}, total_force: [0, 0, 1], "
                         "total_force_frames: f.txt}]\n",
                     dir),

@@ -29,6 +29,7 @@ EtkfFilter::EtkfFilter(StochasticState layout, std::vector<ForecastModel*> model
       options_(std::move(options)),
       rng_(options_.seed) {
   const StochasticState& s = ensemble_.layout();
+  if (options_.relinearizations < 0) throw InputError("relinearizations must be >= 0");
   if (options_.members < 2)
     throw InputError(fmt::format("ETKF needs at least 2 members, got {}", options_.members));
   if (options_.processVariance.size() != 0 && options_.processVariance.size() != s.size())
@@ -88,15 +89,19 @@ FilterStepReport EtkfFilter::step(const Observation& y) {
   Eigen::MatrixXd Xp = Xf.colwise() - x_;
   if (inflate && !inflateFirst) Xp += inflation();
   const Eigen::VectorXd equal = Eigen::VectorXd::Constant(N, 1.0 / static_cast<double>(N));
-  const Observation used = ensemble_.predict(y, equal, O, Z);
-  const ObservedSubset obs(used, Z.rows());
+  Observation used = ensemble_.predict(y, equal, O, Z);
+  members_ = Xp.colwise() + x_;
 
-  if (obs.empty()) {
-    members_ = Xp.colwise() + x_;
-  } else {
-    // Correction (Alg. 3 lines 24-36, eq. 3.17-3.18). With Zt = R^-1/2 Z' = U S V^T (thin),
-    // A = [(N-1) I + Zt^T Zt]^-1 = (I - V diag(s^2/(N-1+s^2)) V^T) / (N-1) and its symmetric root
-    // sqrt((N-1) A) = I + V diag(sqrt((N-1)/(N-1+s^2)) - 1) V^T: O(N r^2), never an N x N solve.
+  // Correction (Alg. 3 lines 24-36, eq. 3.17-3.18). With Zt = R^-1/2 Z' = U S V^T (thin),
+  // A = [(N-1) I + Zt^T Zt]^-1 = (I - V diag(s^2/(N-1+s^2)) V^T) / (N-1) and its symmetric root
+  // sqrt((N-1) A) = I + V diag(sqrt((N-1)/(N-1+s^2)) - 1) V^T: O(N r^2), never an N x N solve.
+  // The update X' omega moves the observables by O' omega: where a relinearisation
+  // (FilterOptions) linearises the operator again before correcting from the same forecast.
+  const Eigen::VectorXd forecastMean = x_;
+  Eigen::VectorXd previousOmega;
+  for (int pass = 0;; ++pass) {
+    const ObservedSubset obs(used, Z.rows());
+    if (obs.empty()) break;  // after a relinearisation: the last pass stands
     const Eigen::MatrixXd Zs = obs.selectRows(Z);
     const Eigen::VectorXd zMean = Zs.rowwise().mean();
     const Eigen::MatrixXd dZ = Zs.colwise() - zMean;
@@ -109,7 +114,7 @@ FilterStepReport EtkfFilter::step(const Observation& y) {
     const Eigen::VectorXd b = Zt.transpose() * obs.whiten(innovation);
     const Eigen::VectorXd omega =
         (b - V * (s2 / (nm1 + s2)).matrix().asDiagonal() * (V.transpose() * b)) / nm1;
-    x_ += Xp * omega;
+    x_ = forecastMean + Xp * omega;
     const Eigen::VectorXd shrink = ((nm1 / (nm1 + s2)).sqrt() - 1.0).matrix();
     const Eigen::MatrixXd XpV = Xp * V;
     members_ = Xp + XpV * shrink.asDiagonal() * V.transpose();
@@ -118,6 +123,17 @@ FilterStepReport EtkfFilter::step(const Observation& y) {
     report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
     report.predictedObservationTrace = dZ.squaredNorm() / nm1;  // tr(Z' Z'^T) / (N - 1)
     report.observed = obs.size();
+    report.relinearizations = pass;
+    if (pass == options_.relinearizations) break;
+    // The analysed covariance is X' A X'^T: a move X' d is d^T A^-1 d = d^T ((N-1) I + Zt^T Zt) d
+    // in its Mahalanobis metric.
+    if (pass > 0) {
+      const Eigen::VectorXd d = omega - previousOmega;
+      const double distance2 = nm1 * d.squaredNorm() + (Zt * d).squaredNorm();
+      if (distance2 <= options_.relinearizationTolerance * options_.relinearizationTolerance) break;
+    }
+    previousOmega = omega;
+    used = ensemble_.predict(y, equal, O, Z, omega);
   }
   report.seconds.correction = secondsSince(correctionStart);
 

@@ -14,6 +14,16 @@ struct FilterOptions {
   // step with data (ObservationOperator.h). Null: the observables are the predictions
   // (DirectObservation). Not owned; must outlive the filter.
   ObservationOperator* observation = nullptr;
+  // Passes of the analysis after the first that linearise the observation operator again, at
+  // the observables the previous pass analysed, and correct from the same forecasts (an iterated
+  // filter for the operator only: no forecast is repeated). For operators that depend on where
+  // they are linearised (a point cloud's closest points: each pass is an ICP iteration weighed by
+  // the forecast covariance); the identity and marker operators gain nothing. Passes stop early
+  // once a pass moves the analysed mean by less than relinearizationTolerance of its analysed
+  // spread (Mahalanobis distance under the analysed covariance): the data's resolution, so that
+  // correspondences flickering near the robust threshold do not keep the passes going.
+  int relinearizations = 0;
+  double relinearizationTolerance = 0.1;
   // Shares each step's forecasts with other processes (ForecastDistribution.h); null: all here.
   // Not owned; must outlive the filter.
   ForecastDistribution* distribution = nullptr;

@@ -25,6 +25,9 @@ struct FilterStepReport {
   double predictedObservationTrace = 0.0;
   // Observation entries used this step; 0 means the step was a prediction only.
   Eigen::Index observed = 0;
+  // Analysis passes after the first that linearised the observation operator again
+  // (FilterOptions::relinearizations).
+  int relinearizations = 0;
   // Covariance factorisations repaired with jitter this step, and the largest jitter.
   int covarianceRepairs = 0;
   double largestJitter = 0.0;

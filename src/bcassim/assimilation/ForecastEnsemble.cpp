@@ -71,13 +71,18 @@ void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& 
 
 Observation ForecastEnsemble::predict(const Observation& frame, const Eigen::VectorXd& weights,
                                       const Eigen::MatrixXd& observables,
-                                      Eigen::MatrixXd& predicted) {
+                                      Eigen::MatrixXd& predicted, const Eigen::VectorXd& analysed) {
   if (frame.values.size() == 0) {
     predicted.resize(0, observables.cols());
     return frame;
   }
   ObservationOperator& op = observation_ ? *observation_ : direct_;
-  const Eigen::VectorXd mean = observables * weights;
+  Eigen::VectorXd mean = observables * weights;
+  if (analysed.size() != 0) {
+    if (analysed.size() != observables.cols())
+      throw std::logic_error("ForecastEnsemble::predict: one analysed coefficient per column");
+    mean += (observables.colwise() - mean) * analysed;
+  }
   Observation used = op.linearize(mean, frame);
   const Eigen::Index m = used.values.size();
   const int s = static_cast<int>(observables.cols());

@@ -39,9 +39,13 @@ class ForecastEnsemble {
   // the observables (column weights `weights`, summing to 1) and predicts every column's
   // observation into `predicted` (entries x s). Returns the frame as the filter must use it
   // (ObservationOperator::linearize). A frame without data is returned as it is, `predicted`
-  // emptied. Throws NumericalError if a prediction is not finite.
+  // emptied. Throws NumericalError if a prediction is not finite. With `analysed` (one coefficient
+  // per column), the operator is linearised instead at the mean moved by the anomalies' linear
+  // combination sum_t analysed_t (o_t - mean): where a correction that writes the state's update
+  // as that combination puts the observables (a relinearisation, FilterOptions).
   Observation predict(const Observation& frame, const Eigen::VectorXd& weights,
-                      const Eigen::MatrixXd& observables, Eigen::MatrixXd& predicted);
+                      const Eigen::MatrixXd& observables, Eigen::MatrixXd& predicted,
+                      const Eigen::VectorXd& analysed = Eigen::VectorXd());
 
   // Tells every model, in worker order, that the step ended at the analysed mean (unconstrained);
   // the distribution's first, so that the other processes move on while these do.

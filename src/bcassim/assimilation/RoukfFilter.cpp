@@ -39,6 +39,9 @@ RoukfFilter::RoukfFilter(StochasticState layout, std::vector<ForecastModel*> mod
       throw InputError("process noise variances must be finite and >= 0");
     if (!q.isZero(0.0)) processVariance_ = q.tail(s.parameterCount());
   }
+  if (options.relinearizations < 0) throw InputError("relinearizations must be >= 0");
+  relinearizations_ = options.relinearizations;
+  relinearizationTolerance_ = options.relinearizationTolerance;
   const Eigen::VectorXd sd = s.initialStddev();
   std::vector<Eigen::Index> reduced;
   for (Eigen::Index i = 0; i < s.size(); ++i)
@@ -123,12 +126,21 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
   const Eigen::Index r = rank();
   U_.setIdentity(r, r);
   addParameterNoise(repairs);
-  const Observation used = ensemble_.predict(y, w, O, Z);
-  const ObservedSubset obs(used, Z.rows());
+  Observation used = ensemble_.predict(y, w, O, Z);
 
   // Correction (Alg. 2 lines 21-27) in whitened form: with W = R^-1/2 H_L and d = R^-1/2 (y - z),
-  // U = I + W^T W and x += L U^-1 W^T d.
-  if (!obs.empty()) {
+  // U = I + W^T W and x += L U^-1 W^T d. The update is L g = (X_f - x) D_w I^T g, so the analysed
+  // observables are the forecasts' moved by the same coefficients D_w I^T g: where a
+  // relinearisation linearises the operator again before correcting from the same forecast.
+  const Eigen::VectorXd forecastMean = x_;
+  const Eigen::MatrixXd forecastU = U_;
+  Eigen::VectorXd previousGain;
+  for (int pass = 0;; ++pass) {
+    const ObservedSubset obs(used, Z.rows());
+    // Nothing within the operator's reach (after a relinearisation: the last pass stands).
+    if (obs.empty()) break;
+    x_ = forecastMean;
+    U_ = forecastU;
     const Eigen::MatrixXd Zs = obs.selectRows(Z);
     const Eigen::VectorXd zMean = Zs * w;
     const Eigen::MatrixXd HL = (Zs.colwise() - zMean) * DIt;  // H L
@@ -144,6 +156,15 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
     report.innovationSquaredNorm = innovation.squaredNorm();
     report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
     report.observed = obs.size();
+    report.relinearizations = pass;
+    if (pass == relinearizations_) break;
+    // The analysed covariance is L U^-1 L^T: a move L d is d^T U d in its Mahalanobis metric.
+    if (pass > 0) {
+      const Eigen::VectorXd d = reducedGain - previousGain;
+      if (d.dot(U_ * d) <= relinearizationTolerance_ * relinearizationTolerance_) break;
+    }
+    previousGain = reducedGain;
+    used = ensemble_.predict(y, w, O, Z, DIt * reducedGain);
   }
   report.seconds.correction = secondsSince(correctionStart);
 

@@ -60,6 +60,8 @@ class RoukfFilter final : public Filter {
   ForecastEnsemble ensemble_;
   SigmaPointSet sigma_;
   Eigen::VectorXd processVariance_;  // parameters' part of RoukfOptions::processVariance
+  int relinearizations_ = 0;
+  double relinearizationTolerance_ = 0.1;
   Eigen::VectorXd x_;
   Eigen::MatrixXd L_;
   Eigen::MatrixXd U_;

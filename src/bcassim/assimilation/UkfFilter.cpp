@@ -22,6 +22,7 @@ UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
                    ? options_.distribution->sharedAlgebra()
                    : &localAlgebra_) {
   const StochasticState& s = ensemble_.layout();
+  if (options_.relinearizations < 0) throw InputError("relinearizations must be >= 0");
   const Eigen::Index n = s.size();
   if (!(options_.spread > 0.0) || !std::isfinite(options_.spread))
     throw InputError(
@@ -76,11 +77,23 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   algebra_->weightedGram(dX, w, unscale, P_);
   if (options_.processVariance.size() != 0 && !noiseFirst)
     P_.diagonal() += options_.processVariance;
-  const Observation used = ensemble_.predict(y, w, O, Z);
-  const ObservedSubset obs(used, Z.rows());
+  Observation used = ensemble_.predict(y, w, O, Z);
 
-  // Correction (Alg. 1 lines 17-24) with the present entries only.
-  if (!obs.empty()) {
+  // Correction (Alg. 1 lines 17-24) with the present entries only. The update K nu = Pxz Pz^-1 nu
+  // is the combination (X_f - x) c with c = w o (dZ^T Pz^-1 nu) / spread, so the analysed
+  // observables are the forecasts' moved by c: where a relinearisation (FilterOptions) linearises
+  // the operator again before correcting from the same forecast.
+  const int passes = options_.relinearizations;
+  const Eigen::VectorXd forecastMean = x_;
+  const Eigen::MatrixXd forecastP = passes > 0 ? P_ : Eigen::MatrixXd();
+  Eigen::VectorXd previousMean;
+  for (int pass = 0;; ++pass) {
+    const ObservedSubset obs(used, Z.rows());
+    if (obs.empty()) break;  // after a relinearisation: the last pass stands
+    if (pass > 0) {
+      x_ = forecastMean;
+      P_ = forecastP;
+    }
     const Eigen::MatrixXd Zs = obs.selectRows(Z);
     const Eigen::VectorXd zMean = Zs * w;
     const Eigen::MatrixXd dZ = unscale * (Zs.colwise() - zMean);
@@ -93,12 +106,26 @@ FilterStepReport UkfFilter::step(const Observation& y) {
     const Eigen::MatrixXd C = choleskyWithRepair(Pz, repairs);
     const auto Cl = C.triangularView<Eigen::Lower>();
     const Eigen::MatrixXd G = Cl.solve(Pxz.transpose());
-    x_ += G.transpose() * Cl.solve(innovation);
+    const Eigen::VectorXd whitened = Cl.solve(innovation);
+    x_ += G.transpose() * whitened;
     subtractGram(G, P_);
     report.innovationSquaredNorm = innovation.squaredNorm();
     report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
     report.predictedObservationTrace = dZ.colwise().squaredNorm().transpose().dot(w);  // tr(Pz - R)
     report.observed = obs.size();
+    report.relinearizations = pass;
+    if (pass == passes) break;
+    // The move of this pass in the Mahalanobis metric of the analysed covariance P.
+    if (pass > 0) {
+      RepairLog ignored;
+      const Eigen::MatrixXd Pc = choleskyWithRepair(P_, ignored);
+      const double distance2 =
+          Pc.triangularView<Eigen::Lower>().solve(x_ - previousMean).squaredNorm();
+      if (distance2 <= options_.relinearizationTolerance * options_.relinearizationTolerance) break;
+    }
+    previousMean = x_;
+    used = ensemble_.predict(
+        y, w, O, Z, unscale * w.cwiseProduct(dZ.transpose() * Cl.transpose().solve(whitened)));
   }
   report.seconds.correction = secondsSince(correctionStart);
 

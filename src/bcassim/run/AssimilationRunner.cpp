@@ -198,11 +198,14 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
                                    ObservationOperator* observation,
                                    ForecastDistribution* distribution) {
   const Eigen::VectorXd process = processVariance(s, layout);
+  const int relinearizations =
+      s.observations.pointCloud ? s.observations.pointCloud->relinearizations : 0;
   switch (s.filter) {
     case FilterKind::Ukf: {
       UkfOptions o;
       o.firstSigmaPointAlone = false;
       o.observation = observation;
+      o.relinearizations = relinearizations;
       o.distribution = distribution;
       o.sigmaPoints = s.sigmaPoints;
       o.spread = s.sigmaSpread;
@@ -213,6 +216,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
       RoukfOptions o;
       o.firstSigmaPointAlone = false;
       o.observation = observation;
+      o.relinearizations = relinearizations;
       o.distribution = distribution;
       o.sigmaPoints = s.sigmaPoints;
       o.processVariance = process;
@@ -222,6 +226,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
       EtkfOptions o;
       o.firstSigmaPointAlone = false;
       o.observation = observation;
+      o.relinearizations = relinearizations;
       o.distribution = distribution;
       o.members = s.members;
       o.seed = s.seed;
@@ -370,7 +375,8 @@ AssimilationFiles openFiles(const Scene& scene, const AssimilationSetup& setup, 
   files.filter = openStepCsv(
       files.filterPath.string(),
       std::string("step,time_s,observed_entries,innovation_norm_m,covariance_repairs") +
-          (setup.cloud ? ",cloud_points,cloud_points_used,cloud_median_distance_m,cloud_cutoff_m"
+          (setup.cloud ? ",cloud_points,cloud_points_used,cloud_median_distance_m,cloud_cutoff_m,"
+                         "cloud_relinearizations"
                        : ""),
       cutAt);
   files.timing =
@@ -588,8 +594,8 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
   files.filter << fmt::format("{},{:.9g},{},{:.6g},{}", step, time, report.observed,
                               report.innovationNorm, report.covarianceRepairs);
   if (setup.cloud)
-    files.filter << fmt::format(",{},{},{:.6g},{:.6g}", cloud.points, cloud.used,
-                                cloud.medianDistance, cloud.cutoff);
+    files.filter << fmt::format(",{},{},{:.6g},{:.6g},{}", cloud.points, cloud.used,
+                                cloud.medianDistance, cloud.cutoff, report.relinearizations);
   files.filter << '\n';
   flushOrThrow(files.filter, files.filterPath);
 

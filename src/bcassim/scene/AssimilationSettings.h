@@ -58,6 +58,9 @@ struct PointCloudSettings {
   double distanceFactor = 3.0;  // -, k of the robust threshold
   double minCutoff = 0.005;     // m, the threshold's floor
   int minPoints = 10;           // a frame with fewer usable points is not used (prediction only)
+  // Analysis passes after the first that find the closest points again on the analysed surface
+  // and correct from the same forecasts (FilterOptions::relinearizations; ROUKF, UKF, ETKF).
+  int relinearizations = 0;
 };
 
 // observations.adaptive_noise: sigma estimated from the innovations (InnovationNoiseEstimator),

@@ -244,7 +244,7 @@ PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
                                   std::vector<std::string>& notices) {
   MapReader r(src, obs.node("point_cloud"), obs.pathOf("point_cloud"),
               {"files", "csv", "first_step", "surface", "residual", "distance_factor",
-               "min_distance", "min_points"});
+               "min_distance", "min_points", "relinearizations"});
   if (r.has("files") == r.has("csv"))
     failAt(src, r.self(), r.pathOf("files"),
            r.has("files") ? "expected either files or csv, not both"
@@ -256,6 +256,7 @@ PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
   pc.distanceFactor = r.number("distance_factor", pc.distanceFactor, "-", Range::Positive);
   pc.minCutoff = r.number("min_distance", pc.minCutoff, "m", Range::NonNegative);
   pc.minPoints = r.integer("min_points", pc.minPoints, Range::AtLeastOne);
+  pc.relinearizations = r.integer("relinearizations", pc.relinearizations, Range::NonNegative);
   const int firstStep = r.integer("first_step", 1);
   const auto steps = static_cast<size_t>(c.steps);
   pc.frames.assign(steps + 1, Eigen::MatrixX3d());
