@@ -124,13 +124,19 @@ def verify(bcassim, data, out, seq):
     return np.array(errors)
 
 
+# --footprint: the force's share over the zone estimated too (tilts and concentration, LoadFootprint).
+FOOTPRINT_PARAMETERS = """
+    - {force: {load: 0, footprint: tilt_u}, mean: 0, stddev: 1, random_walk: 0.02}
+    - {force: {load: 0, footprint: tilt_v}, mean: 0, stddev: 1, random_walk: 0.02}
+    - {force: {load: 0, footprint: concentration}, mean: 0, stddev: 1, random_walk: 0.02}"""
+
 TANGENT_SETTINGS = {
     "mean": "tangent: mean\n  tangent_refresh_every: 50",
     "own": "tangent: own\n  reuse_factorization: false",
 }
 
 
-def register(bcassim, data, out, seq, threads, tangent="own"):
+def register(bcassim, data, out, seq, threads, tangent="own", footprint=False):
     """Force and interior-node errors of the estimation on mesh-remeshed, per frame."""
     work = os.path.join(out, "register", seq.replace("/", "-"))
     inputs = os.path.join(work, "inputs")
@@ -152,7 +158,8 @@ def register(bcassim, data, out, seq, threads, tangent="own"):
     scene = os.path.join(work, "register.yaml")
     with open(scene, "w") as f:
         f.write(fill("register.yaml", data=data, sequence=seq, inputs=inputs, threads=threads,
-                     material=material_of(seq), tangent_settings=TANGENT_SETTINGS[tangent]))
+                     material=material_of(seq), tangent_settings=TANGENT_SETTINGS[tangent],
+                     footprint=FOOTPRINT_PARAMETERS if footprint else ""))
     run_dir = os.path.join(work, "run")
     run([bcassim, "assimilate", scene, "--out", run_dir, "-q", "--no-plots"],
         os.path.join(work, "assimilate.log"))
@@ -202,6 +209,9 @@ def main():
                         help="registration: own (Newton for every sigma point) or mean "
                              "(sigma points linearised about the analysed mean, the mean by "
                              "chord iterations: 25-70x faster, see docs/results.md)")
+    parser.add_argument("--footprint", action="store_true",
+                        help="registration: estimate how the force is shared over the zone too "
+                             "(tilt_u, tilt_v, concentration), not only its three components")
     a = parser.parse_args()
     bcassim = os.path.abspath(os.path.join(a.build, "bcassim"))
     data = os.path.abspath(a.data)
@@ -230,7 +240,8 @@ def main():
         results, failed = [], []
         for seq in a.only:
             try:
-                results.append(register(bcassim, data, out, seq, a.threads, a.tangent))
+                results.append(register(bcassim, data, out, seq, a.threads, a.tangent,
+                                        a.footprint))
             except RunFailed as failure:
                 failed.append((seq, str(failure)))
                 print(f"register {seq}: failed, {failure}", flush=True)

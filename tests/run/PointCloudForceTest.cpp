@@ -8,11 +8,13 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 #include "bcassim/mechanics/StaticSolver.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 #include "bcassim/mesh/BoundarySurface.h"
 #include "bcassim/run/AssimilationRunner.h"
+#include "bcassim/scene/ModelParameter.h"
 #include "bcassim/scene/SceneLoader.h"
 #include "support/TestFiles.h"
 
@@ -42,10 +44,15 @@ std::string staticCylinder(const std::string& load, int steps, const std::string
 // Solves the truth (force [0.01, -0.04, 0.005] N) and writes dir/cloud.txt: the deformed
 // centroids of the boundary triangles whose rest centroid has y > 0 (the part a camera above
 // sees), in m.
+// With `footprint` (tilt u, tilt v, concentration), the force is shared as LoadFootprint says;
+// `seenFromBelow`: the camera sees the triangles with y < 0 instead (the loaded patch's side).
 void writeTruthCloud(const fs::path& dir, int steps,
-                     const std::string& load = "[0.01, -0.04, 0.005]") {
-  const Scene truth =
-      loadSceneFromString(staticCylinder(load, steps, ""), "truth.yaml", dir.string());
+                     const std::string& load = "[0.01, -0.04, 0.005]",
+                     const Vec3& footprint = Vec3::Zero(), bool seenFromBelow = false) {
+  Scene truth = loadSceneFromString(staticCylinder(load, steps, ""), "truth.yaml", dir.string());
+  if (!footprint.isZero())
+    for (int c = 0; c < 3; ++c)
+      applyParameter(LoadFootprintTarget{0, c}, footprint(c), truth.model);
   StaticSolver solver(truth.model, makeLinearSolver("cholmod"), truth.statics);
   Eigen::VectorXd x = truth.model.restPositions();
   solver.solve(truth.model, 1.0, x);
@@ -59,7 +66,7 @@ void writeTruthCloud(const fs::path& dir, int steps,
   for (Eigen::Index f = 0; f < boundary.F.rows(); ++f) {
     const Vec3 atRest =
         (rest.row(boundary.F(f, 0)) + rest.row(boundary.F(f, 1)) + rest.row(boundary.F(f, 2))) / 3;
-    if (atRest.y() <= 0) continue;
+    if ((atRest.y() <= 0) != seenFromBelow) continue;
     const Vec3 p = (x.segment<3>(3 * boundary.F(f, 0)) + x.segment<3>(3 * boundary.F(f, 1)) +
                     x.segment<3>(3 * boundary.F(f, 2))) /
                    3;
@@ -157,6 +164,103 @@ TEST(PointCloudForce, RelinearisationsRecoverTheForceInTheFirstFrame) {
     }
     EXPECT_LE(errors[filter + "-8"], 0.02) << filter;
     EXPECT_GT(errors[filter + "-0"], 5 * errors[filter + "-8"]) << filter;
+  }
+}
+
+// A slab fixed at its base, a tool pressing on a 3 x 3 cm zone of its top (z = 0.02 m).
+std::string staticSlab(int steps, const std::string& extra) {
+  return "mesh: {generator: box, size: [0.08, 0.08, 0.02], cells: [12, 12, 3]}\n"
+         "material: {model: neohookean, young_modulus: 5000, poisson_ratio: 0.45}\n"
+         "integrator: {type: static, tolerance: 1.0e-10}\n"
+         "time: {dt: 1, steps: " +
+         std::to_string(steps) +
+         "}\n"
+         "fixed:\n"
+         "  - region: {half_space: {point: [0, 0, 0.0001], normal: [0, 0, -1]}}\n"
+         "loads:\n"
+         "  - region: {surface_patch: {box: {min: [0.025, 0.025, 0.019], max: [0.055, 0.055, "
+         "0.021]}, direction: [0, 0, 1], max_angle_deg: 30}}\n"
+         "    total_force: [0, 0, 0]\n"
+         "output: {pvd: false}\n" +
+         extra;
+}
+
+// The tool presses off the zone's centre on a narrower footprint than the even split, seen from
+// above: estimating the footprint (tilts and concentration) with the force recovers both; the
+// even split cannot place the force and misjudges it.
+TEST(PointCloudForce, AnOffCentreFootprintIsRecoveredWithTheForce) {
+  const fs::path dir = test::freshDir();
+  constexpr int kFrames = 20;
+  const Vec3 force(0.1, -0.05, -0.8);    // N
+  const Vec3 footprint(1.2, -0.6, 1.5);  // tilt u, tilt v, concentration
+  {
+    Scene truth = loadSceneFromString(staticSlab(1, ""), "truth.yaml", dir.string());
+    for (int c = 0; c < 3; ++c) {
+      applyParameter(LoadForceTarget{0, c}, force(c), truth.model);
+      applyParameter(LoadFootprintTarget{0, c}, footprint(c), truth.model);
+    }
+    StaticSolver solver(truth.model, makeLinearSolver("cholmod"), truth.statics);
+    Eigen::VectorXd x = truth.model.restPositions();
+    solver.solve(truth.model, 1.0, x);
+    ASSERT_GT((x - truth.model.restPositions()).cwiseAbs().maxCoeff(), 2e-3);
+    // The camera above sees the top face: its deformed nodes.
+    std::ofstream cloud(dir / "cloud.txt");
+    for (int n = 0; n < truth.model.mesh->numNodes(); ++n)
+      if (truth.model.mesh->V(n, 2) > 0.0199)
+        cloud << x(3 * n) << ' ' << x(3 * n + 1) << ' ' << x(3 * n + 2) << '\n';
+  }
+  for (int k = 1; k <= kFrames; ++k)
+    fs::copy_file(dir / "cloud.txt", dir / ("pc" + std::to_string(k) + ".txt"));
+  const std::string forceParameters =
+      "    - {force: {load: 0, component: x}, mean: 0, stddev: 0.5}\n"
+      "    - {force: {load: 0, component: y}, mean: 0, stddev: 0.5}\n"
+      "    - {force: {load: 0, component: z}, mean: 0, stddev: 0.5}\n";
+  const std::string footprintParameters =
+      "    - {force: {load: 0, footprint: tilt_u}, mean: 0, stddev: 1}\n"
+      "    - {force: {load: 0, footprint: tilt_v}, mean: 0, stddev: 1}\n"
+      "    - {force: {load: 0, footprint: concentration}, mean: 0, stddev: 1}\n";
+  double evenError = 0.0, evenMedian = 0.0;
+  // The last frame's median distance of the cloud to the analysed surface (filter.csv), m.
+  auto lastMedian = [&](const std::string& name) {
+    std::ifstream csv(dir / name / "filter.csv");
+    std::string line, last;
+    while (std::getline(csv, line)) last = line;
+    std::stringstream row(last);
+    std::string field;
+    for (int c = 0; c < 8; ++c) std::getline(row, field, ',');  // cloud_median_distance_m
+    return std::stod(field);
+  };
+  for (const bool estimateFootprint : {false, true}) {
+    const std::string name = estimateFootprint ? "footprint" : "even";
+    const Scene scene = loadSceneFromString(
+        staticSlab(kFrames, "assimilation:\n  parameters:\n" + forceParameters +
+                                (estimateFootprint ? footprintParameters : "") +
+                                "  observations:\n"
+                                "    point_cloud: {files: \"pc*.txt\", relinearizations: 8}\n"
+                                "    sigma: 1.0e-5\n"),
+        "estimation.yaml", dir.string());
+    const AssimilationResult r = runAssimilation(scene, (dir / name).string());
+    const Vec3 estimate(r.parameters[0].mean, r.parameters[1].mean, r.parameters[2].mean);
+    const double error = (estimate - force).norm() / force.norm();
+    const double median = lastMedian(name);
+    std::cout << "[ footprint ] " << name << ": " << estimate.transpose() << " N, " << 100 * error
+              << " %, cloud median distance " << 1e6 * median << " um";
+    if (estimateFootprint) {
+      ASSERT_EQ(r.parameters.size(), 6u);
+      const Vec3 f(r.parameters[3].mean, r.parameters[4].mean, r.parameters[5].mean);
+      std::cout << "; footprint " << f.transpose();
+      EXPECT_EQ(r.parameters[3].name, "tilt_u_0");
+      EXPECT_EQ(r.parameters[5].name, "concentration_0");
+      EXPECT_LE(error, 0.02);
+      EXPECT_LT((f - footprint).cwiseAbs().maxCoeff(), 0.15);
+      EXPECT_LT(error, evenError);
+      // The even split cannot take the surface's shape: its fit stays 3x farther from the cloud.
+      EXPECT_LT(3 * median, evenMedian);
+    } else {
+      evenError = error;
+      evenMedian = median;
+    }
+    std::cout << "\n";
   }
 }
 

@@ -3,11 +3,13 @@
 // line and key, and bad frames become one notice each while the run keeps what it can use.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "bcassim/Error.h"
+#include "bcassim/scene/ModelParameter.h"
 #include "bcassim/scene/SceneLoader.h"
 #include "support/TestFiles.h"
 
@@ -80,6 +82,44 @@ TEST(PointCloudScene, ForceParametersAndStaticAssimilationAreRead) {
           assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", relinearizations: 4}\n"),
       "scene.yaml", dir.string());
   EXPECT_EQ(passes.assimilation->observations.pointCloud->relinearizations, 4);
+  // The footprint's coefficients: dimensionless, named after the load.
+  const Scene footprint = loadSceneFromString(
+      std::string(kStaticBox) +
+          "loads: [{region: {nodes: [20, 21, 22, 23]}, total_force: [0, 0, 0]}]\n" +
+          assimilation("    - {force: {load: 0, footprint: tilt_u}, mean: 0, stddev: 1}\n"
+                       "    - {force: {load: 0, footprint: concentration}, mean: 0.5, stddev: 1}\n",
+                       kCloud),
+      "scene.yaml", dir.string());
+  const auto& fp = footprint.assimilation->parameters;
+  ASSERT_EQ(fp.size(), 2u);
+  EXPECT_EQ(fp[0].name, "tilt_u_0");
+  EXPECT_EQ(fp[1].name, "concentration_0");
+}
+
+// A footprint coefficient reshapes how the load's total force is shared, never the total: set
+// before or after the force components, the nodal forces sum to the total.
+TEST(PointCloudScene, AFootprintKeepsTheLoadsTotalForce) {
+  Scene s = loadSceneFromString(
+      std::string(kStaticBox) +
+          "loads: [{region: {nodes: [20, 21, 22, 23]}, total_force: [1, 2, 3]}]\n",
+      "scene.yaml", test::freshDir().string());
+  auto nodalSum = [&] {
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * s.model.mesh->numNodes());
+    s.model.loads[0].addTo(1.0, f);
+    return Vec3(f.reshaped(3, f.size() / 3).rowwise().sum());
+  };
+  EXPECT_LT((nodalSum() - Vec3(1, 2, 3)).norm(), 1e-12);
+  applyParameter(LoadFootprintTarget{0, 0}, 0.8, s.model);
+  applyParameter(LoadFootprintTarget{0, 2}, 1.5, s.model);
+  EXPECT_LT((nodalSum() - Vec3(1, 2, 3)).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(readParameter(LoadFootprintTarget{0, 0}, s.model), 0.8);
+  EXPECT_DOUBLE_EQ(readParameter(LoadFootprintTarget{0, 1}, s.model), 0.0);
+  applyParameter(LoadForceTarget{0, 2}, 5.0, s.model);
+  EXPECT_LT((nodalSum() - Vec3(1, 2, 5)).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(readParameter(LoadForceTarget{0, 2}, s.model), 5.0);
+  const std::vector<double>& w = s.model.loads[0].weights;
+  ASSERT_EQ(w.size(), 4u);
+  EXPECT_GT(*std::max_element(w.begin(), w.end()), 0.26);  // no longer the even split
 }
 
 TEST(PointCloudScene, ErrorsNameLineAndKey) {
@@ -126,6 +166,27 @@ TEST(PointCloudScene, ErrorsNameLineAndKey) {
               dir),
       "scene.yaml:10: assimilation.observations.point_cloud.relinearizations: must be >= 0, "
       "got -1");
+  EXPECT_EQ(errorOf(b + kLoad +
+                        assimilation("    - {force: {load: 0, footprint: tilt_u}, mean: 0, "
+                                     "stddev: 1}\n",
+                                     kCloud),
+                    dir),
+            "scene.yaml:8: assimilation.parameters[0].force.footprint: loads[0] has 2 nodes; a "
+            "footprint needs at least 3");
+  EXPECT_EQ(errorOf(b + "loads: [{region: {nodes: [20, 21, 22]}, total_force: [0, 0, 0]}]\n" +
+                        assimilation("    - {force: {load: 0, footprint: tilt_v, component: x}, "
+                                     "mean: 0, stddev: 1}\n",
+                                     kCloud),
+                    dir),
+            "scene.yaml:8: assimilation.parameters[0].force.footprint: expected either component "
+            "or footprint, not both");
+  EXPECT_EQ(errorOf(b + "loads: [{region: {nodes: [20, 21, 22]}, total_force: [0, 0, 0]}]\n" +
+                        assimilation("    - {force: {load: 0, footprint: tilt}, mean: 0, "
+                                     "stddev: 1}\n",
+                                     kCloud),
+                    dir),
+            "scene.yaml:8: assimilation.parameters[0].force.footprint: expected one of tilt_u, "
+            "tilt_v, concentration, got 'tilt'");
   EXPECT_EQ(errorOf(b + "loads: [{region: {nodes: [20]}, total_force: [0, 0, 1], "
                         "total_force_frames: f.txt}]\n",
                     dir),

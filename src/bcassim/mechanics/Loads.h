@@ -1,10 +1,12 @@
 // External loads: forces on node sets modulated in time, and "control points" (barycentric points
 // pulled by stiff penalty springs along a prescribed trajectory, as the thesis drives its liver).
 #pragma once
+#include <optional>
 #include <vector>
 
 #include "bcassim/Types.h"
 #include "bcassim/mechanics/AssemblyPattern.h"
+#include "bcassim/mechanics/LoadFootprint.h"
 #include "bcassim/mechanics/TimeProfile.h"
 #include "bcassim/mesh/BarycentricMap.h"
 #include "bcassim/mesh/TetMesh.h"
@@ -23,6 +25,8 @@ struct NodalLoad {
   std::vector<double> weights;  // empty: 1 for every node
   std::vector<Vec3> frames;     // N per node (times the weights); empty: forcePerNode
   double frameDt = 0.0;         // s, > 0 with frames
+  // Set once a footprint coefficient is estimated: it then writes `weights` (LoadFootprint.h).
+  std::optional<LoadFootprint> footprint;
 
   // The force per node at time t before the weights, N.
   Vec3 perNodeAt(double t) const;

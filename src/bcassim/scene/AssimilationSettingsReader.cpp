@@ -124,7 +124,7 @@ EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
   EstimatedParameter p;
   std::string unit;
   if (r.has("force")) {
-    MapReader t(src, r.node("force"), r.pathOf("force"), {"load", "component"});
+    MapReader t(src, r.node("force"), r.pathOf("force"), {"load", "component", "footprint"});
     LoadForceTarget target;
     target.load = t.integer("load", 0);
     const int loads = static_cast<int>(model.loads.size());
@@ -136,10 +136,26 @@ EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
       t.fail("load", fmt::format("loads[{}] is given frame by frame (total_force_frames); an "
                                  "estimated force needs a constant one",
                                  target.load));
-    if (!t.has("component")) failAt(src, t.self(), t.pathOf("component"), "missing (x, y or z)");
-    target.component = t.choice("component", "x", {"x", "y", "z"})[0] - 'x';
-    p.target = target;
-    unit = "N";
+    if (t.has("footprint")) {
+      if (t.has("component"))
+        t.fail("footprint", "expected either component or footprint, not both");
+      const std::string which =
+          t.choice("footprint", "tilt_u", {"tilt_u", "tilt_v", "concentration"});
+      const int nodes =
+          static_cast<int>(model.loads[static_cast<size_t>(target.load)].nodes.size());
+      if (nodes < 3)
+        t.fail("footprint", fmt::format("loads[{}] has {} node{}; a footprint needs at least 3",
+                                        target.load, nodes, nodes == 1 ? "" : "s"));
+      p.target = LoadFootprintTarget{target.load, which == "tilt_u"   ? 0
+                                                  : which == "tilt_v" ? 1
+                                                                      : 2};
+      unit = "-";
+    } else {
+      if (!t.has("component")) failAt(src, t.self(), t.pathOf("component"), "missing (x, y or z)");
+      target.component = t.choice("component", "x", {"x", "y", "z"})[0] - 'x';
+      p.target = target;
+      unit = "N";
+    }
   } else if (r.has("young_modulus")) {
     MapReader t(src, r.node("young_modulus"), r.pathOf("young_modulus"),
                 {"region", "model", "poisson_ratio"});

@@ -11,6 +11,10 @@ std::string defaultParameterName(const ModelParameterTarget& target) {
     return "E_" + std::to_string(e->region);
   if (const auto* f = std::get_if<LoadForceTarget>(&target))
     return std::string("F") + "xyz"[f->component] + "_" + std::to_string(f->load);
+  if (const auto* f = std::get_if<LoadFootprintTarget>(&target)) {
+    const char* names[] = {"tilt_u", "tilt_v", "concentration"};
+    return std::string(names[f->coefficient]) + "_" + std::to_string(f->load);
+  }
   const auto& k = std::get<SpringCoefficientTarget>(target);
   const char* names[] = {"k_alpha", "k_beta", "k_gamma"};
   return std::string(names[k.coefficient]) + "_" + std::to_string(k.group);
@@ -35,6 +39,29 @@ void applyParameter(const ModelParameterTarget& target, double value, Mechanical
           "one",
           f->load));
     load.setTotalForce(f->component, value);
+    return;
+  }
+  if (const auto* f = std::get_if<LoadFootprintTarget>(&target)) {
+    if (f->load < 0 || f->load >= static_cast<int>(model.loads.size()))
+      throw InputError(fmt::format("footprint parameter: load {} does not exist ({} loads)",
+                                   f->load, model.loads.size()));
+    NodalLoad& load = model.loads[static_cast<size_t>(f->load)];
+    if (!load.frames.empty())
+      throw InputError(fmt::format(
+          "footprint parameter: load {} is given frame by frame; an estimated footprint needs a "
+          "constant force",
+          f->load));
+    if (!load.footprint) {
+      // From now on the weights share the total: forcePerNode holds the total force.
+      const Vec3 total = load.totalForce();
+      Eigen::MatrixX3d rest(static_cast<Eigen::Index>(load.nodes.size()), 3);
+      for (size_t k = 0; k < load.nodes.size(); ++k)
+        rest.row(static_cast<Eigen::Index>(k)) = model.mesh->V.row(load.nodes[k]);
+      load.footprint.emplace(rest, load.weights);
+      load.forcePerNode = total;
+    }
+    load.footprint->setCoefficient(f->coefficient, value);
+    load.weights = load.footprint->shares();
     return;
   }
   const auto& k = std::get<SpringCoefficientTarget>(target);
@@ -67,6 +94,13 @@ double readParameter(const ModelParameterTarget& target, const MechanicalModel& 
       throw InputError(fmt::format("force parameter: load {} does not exist ({} loads)", f->load,
                                    model.loads.size()));
     return model.loads[static_cast<size_t>(f->load)].totalForce()(f->component);
+  }
+  if (const auto* f = std::get_if<LoadFootprintTarget>(&target)) {
+    if (f->load < 0 || f->load >= static_cast<int>(model.loads.size()))
+      throw InputError(fmt::format("footprint parameter: load {} does not exist ({} loads)",
+                                   f->load, model.loads.size()));
+    const NodalLoad& load = model.loads[static_cast<size_t>(f->load)];
+    return load.footprint ? load.footprint->coefficient(f->coefficient) : 0.0;
   }
   const auto& k = std::get<SpringCoefficientTarget>(target);
   const CubicSpringCoefficients c = model.springs.coefficients(k.group);

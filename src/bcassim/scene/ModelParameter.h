@@ -1,6 +1,7 @@
 // What an estimated scalar sets in the mechanical model: a region's Young's modulus, one
 // coefficient of a spring group (thesis §3.4: E; [k_alpha, k_beta, k_gamma] shared by springs) or
-// one component of a load's total force (an unknown tool force, issue 14).
+// one component of a load's total force (an unknown tool force, issue 14), or one coefficient of
+// how that force is shared over the load's zone (the tool's footprint).
 #pragma once
 #include <string>
 #include <variant>
@@ -29,11 +30,20 @@ struct LoadForceTarget {
   int component = 0;
 };
 
+// One coefficient of how model.loads[load] shares its total force (LoadFootprint.h): 0 = tilt along
+// the zone's first in-plane axis, 1 = along the second, 2 = concentration; dimensionless, 0 = the
+// load's own split.
+struct LoadFootprintTarget {
+  int load = 0;
+  int coefficient = 0;
+};
+
 using ModelParameterTarget =
-    std::variant<YoungModulusTarget, SpringCoefficientTarget, LoadForceTarget>;
+    std::variant<YoungModulusTarget, SpringCoefficientTarget, LoadForceTarget, LoadFootprintTarget>;
 
 // The name an estimated parameter gets unless the scene names it: E_<region>, k_alpha_<group>,
-// k_beta_<group>, k_gamma_<group>, or F<x|y|z>_<load>.
+// k_beta_<group>, k_gamma_<group>, F<x|y|z>_<load>, or tilt_u_<load>, tilt_v_<load>,
+// concentration_<load>.
 std::string defaultParameterName(const ModelParameterTarget& target);
 
 // Writes the physical value into the model. Throws InputError if the target does not exist.
