@@ -1,7 +1,9 @@
 // Closest point on a triangle surface: the locator agrees with brute force over all faces.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <string>
 
 #include "bcassim/Error.h"
 #include "bcassim/mesh/BoundarySurface.h"
@@ -56,6 +58,47 @@ TEST(SurfaceLocator, MatchesBruteForceOnRandomQueries) {
                           s.barycentric(1) * surface.V.row(surface.F(s.face, 1)).transpose() +
                           s.barycentric(2) * surface.V.row(surface.F(s.face, 2)).transpose();
     EXPECT_LT((fromFace - s.point).norm(), 1e-15);
+  }
+}
+
+// Built on the rest shape, refitted to a bent and twisted one (several radii of motion): the
+// closest points are still exact, and the same as a locator built on the deformed surface.
+TEST(SurfaceLocator, RefittedToADeformedSurfaceMatchesBruteForce) {
+  const TetMesh tets = makeCylinderMesh(0.015, 0.18, 3000);
+  TriMesh surface = toTriMesh(tets, extractBoundary(tets));
+  SurfaceLocator locator(surface);
+  for (Eigen::Index v = 0; v < surface.V.rows(); ++v) {
+    const double z = surface.V(v, 2), turn = 4.0 * z;  // rad: a 41 degree twist over the length
+    const double x = surface.V(v, 0), y = surface.V(v, 1);
+    surface.V.row(v) << std::cos(turn) * x - std::sin(turn) * y + 0.3 * z * z,
+        std::sin(turn) * x + std::cos(turn) * y, z;
+  }
+  locator.refit(surface);
+  const SurfaceLocator rebuilt(surface);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> xy(-0.03, 0.03), z(-0.05, 0.23);
+  for (int q = 0; q < 300; ++q) {
+    const Vec3 p(xy(rng) + 0.005, xy(rng), z(rng));
+    double best = 1e300;
+    for (Eigen::Index f = 0; f < surface.F.rows(); ++f) {
+      const Vec3 a = surface.V.row(surface.F(f, 0)), b = surface.V.row(surface.F(f, 1)),
+                 c = surface.V.row(surface.F(f, 2));
+      const Vec3 w = closestPointOnTriangle(p, a, b, c);
+      best = std::min(best, (w(0) * a + w(1) * b + w(2) * c - p).norm());
+    }
+    const SurfacePoint s = locator.closest(p);
+    EXPECT_NEAR(s.distance, best, 1e-15) << q;
+    EXPECT_NEAR(rebuilt.closest(p).distance, s.distance, 1e-15) << q;
+  }
+  TriMesh fewer = surface;
+  fewer.F.conservativeResize(surface.F.rows() - 1, 3);
+  try {
+    locator.refit(fewer);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "surface locator: refit with " + std::to_string(fewer.F.rows()) +
+                  " faces; it was built with " + std::to_string(surface.F.rows()));
   }
 }
 

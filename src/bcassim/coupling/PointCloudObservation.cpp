@@ -51,7 +51,12 @@ Observation PointCloudObservation::linearize(const Eigen::VectorXd& meanObservab
   mean.V = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
       meanObservable.data(), nodes_, 3);
   mean.F = surface_;
-  const SurfaceLocator locator(mean);
+  if (locator_) {
+    locator_->refit(mean);
+  } else {
+    locator_.emplace(mean);
+  }
+  const SurfaceLocator& locator = *locator_;
   face_.assign(static_cast<size_t>(n), 0);
   weights_.assign(static_cast<size_t>(n), Vec3(1, 0, 0));
   normal_.assign(static_cast<size_t>(n), Vec3::UnitX());

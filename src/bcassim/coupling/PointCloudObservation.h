@@ -3,10 +3,12 @@
 // (face and barycentric weights, AABB tree) and fixed for every sigma point of the step.
 #pragma once
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "bcassim/Types.h"
 #include "bcassim/assimilation/ObservationOperator.h"
+#include "bcassim/mesh/ClosestPoint.h"
 #include "bcassim/scene/AssimilationSettings.h"
 
 namespace bcassim {
@@ -53,6 +55,8 @@ class PointCloudObservation final : public ObservationOperator {
   std::vector<int> face_;
   std::vector<Vec3> weights_, normal_;
   PointCloudStepStats stats_;
+  // Built at the first linearize(), refitted to the mean's surface at the next ones.
+  std::optional<SurfaceLocator> locator_;
 };
 
 }  // namespace bcassim

@@ -1,6 +1,7 @@
 #include "bcassim/mesh/AabbTree.h"
 
 #include <numeric>
+#include <stdexcept>
 
 namespace bcassim {
 
@@ -14,6 +15,23 @@ AabbTree::AabbTree(const std::vector<Box>& boxes) {
   nodes_.reserve(2 * (n / kLeafSize + 1));
   nodes_.emplace_back();
   build(0, centres, boxes, 0, n, 0);
+}
+
+void AabbTree::refit(const std::vector<Box>& boxes) {
+  if (boxes.size() != order_.size())
+    throw std::invalid_argument("AabbTree::refit: one box per primitive of the tree expected");
+  // Children are allocated after their parent: from the last node back, both are done first.
+  for (auto i = static_cast<int>(nodes_.size()) - 1; i >= 0; --i) {
+    Node& n = nodes_[static_cast<size_t>(i)];
+    Box box;
+    if (n.count > 0) {
+      for (int k = n.first; k < n.first + n.count; ++k) box.extend(boxes[order_[k]]);
+    } else {
+      box.extend(nodes_[n.first].box);
+      box.extend(nodes_[n.first + 1].box);
+    }
+    n.box = box;
+  }
 }
 
 void AabbTree::build(int self, const std::vector<Vec3>& centres, const std::vector<Box>& boxes,

@@ -35,6 +35,13 @@ class AabbTree {
   // boxes: one box per primitive, in any units (metres here); primitive ids are the indices.
   explicit AabbTree(const std::vector<Box>& boxes);
 
+  // Moves the primitives without rebuilding: `boxes` (one per primitive, as given to the
+  // constructor) become the leaves' and every node's box is recomputed bottom-up. Queries stay
+  // exact whatever the motion; only their speed depends on how far the primitives moved from where
+  // the tree was built. O(n) against the build's O(n log n). Throws std::invalid_argument when
+  // the count differs from the tree's.
+  void refit(const std::vector<Box>& boxes);
+
   bool empty() const { return nodes_.empty(); }
   const Box& bounds() const { return nodes_.front().box; }
 

@@ -59,6 +59,25 @@ SurfaceLocator::SurfaceLocator(const TriMesh& surface) {
   tree_ = AabbTree(boxes);
 }
 
+void SurfaceLocator::refit(const TriMesh& surface) {
+  const Eigen::Index nf = surface.F.rows(), nv = surface.V.rows();
+  if (3 * nf != static_cast<Eigen::Index>(corners_.size()))
+    throw InputError(fmt::format("surface locator: refit with {} faces; it was built with {}", nf,
+                                 corners_.size() / 3));
+  std::vector<AabbTree::Box> boxes(static_cast<size_t>(nf));
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = surface.F(f, k);
+      if (v < 0 || v >= nv)
+        throw InputError(fmt::format(
+            "surface locator: face {} refers to vertex {}; expected an index in [0, {})", f, v,
+            nv));
+      corners_[3 * f + k] = surface.V.row(v).transpose();
+      boxes[static_cast<size_t>(f)].extend(corners_[3 * f + k]);
+    }
+  tree_.refit(boxes);
+}
+
 SurfacePoint SurfaceLocator::closest(const Vec3& p) const {
   double bestSq;
   Vec3 bestBary = Vec3::Zero();

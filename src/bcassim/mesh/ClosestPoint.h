@@ -29,6 +29,12 @@ class SurfaceLocator {
   // index is out of range.
   explicit SurfaceLocator(const TriMesh& surface);
 
+  // The same faces at new vertex positions (`surface` has the faces it was built with): the
+  // corners are copied again and the tree refitted, not rebuilt (AabbTree::refit), so that a
+  // surface that deforms step after step is searched again at O(n). Throws InputError when the
+  // face count differs or a face index is out of range.
+  void refit(const TriMesh& surface);
+
   // Closest point of the surface to p; ties go to the lower face index found first.
   SurfacePoint closest(const Vec3& p) const;
 
