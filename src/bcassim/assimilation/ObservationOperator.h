@@ -14,7 +14,9 @@ namespace bcassim {
 // Contract (see also ForecastModel.h): after all forecasts of a step with data are in, the filter
 // calls linearize() once, serially, with the mean of the forecasts' observables, weighted as the
 // filter weighs its sigma points (ensemble members: equally), and the step's frame; then
-// predict() once per forecast, possibly concurrently. Steps without data call neither. The
+// predict() once per forecast, possibly concurrently. With relinearisations
+// (FilterOptions::relinearizations) the pair is called again, within the same step, with the
+// observables the previous analysis pass moved the mean to. Steps without data call neither. The
 // filter knows nothing of what an observable holds: no mesh, no surface.
 class ObservationOperator {
  public:
