@@ -87,9 +87,10 @@ Observation observationFromValues(Eigen::VectorXd values, std::optional<double> 
 template <class H, class FilterT, class OptionsT>
 std::unique_ptr<H> makeFilter(const StochasticState& layout, const py::object& models, int threads,
                               OptionsT o, const std::optional<Eigen::VectorXd>& q, bool firstAlone,
-                              const py::object& observation) {
+                              const py::object& observation, int relinearizations) {
   auto h = std::make_unique<H>();
   o.processVariance = processVarianceOf(q);
+  o.relinearizations = relinearizations;
   o.firstSigmaPointAlone = firstAlone;
   o.observation = observationFor(*h, observation);
   auto raw = modelsFor(*h, models, threads);
@@ -168,6 +169,7 @@ void bindAssimilation(py::module_& m) {
       .def_readonly("innovation_squared_norm", &FilterStepReport::innovationSquaredNorm)
       .def_readonly("predicted_observation_trace", &FilterStepReport::predictedObservationTrace)
       .def_readonly("observed", &FilterStepReport::observed)
+      .def_readonly("relinearizations", &FilterStepReport::relinearizations)
       .def_readonly("covariance_repairs", &FilterStepReport::covarianceRepairs)
       .def_readonly("seconds", &FilterStepReport::seconds);
 
@@ -217,46 +219,50 @@ void bindAssimilation(py::module_& m) {
                                         "Reduced-order UKF (thesis Alg. 2): rank = parameters")
       .def(py::init([](const StochasticState& layout, const py::object& models, int threads,
                        const std::string& sigmaPoints, std::optional<Eigen::VectorXd> q,
-                       bool firstAlone, const py::object& observation) {
+                       bool firstAlone, const py::object& observation, int relinearizations) {
              RoukfOptions o;
              o.sigmaPoints = parseSigmaPointKind(sigmaPoints);
              return makeFilter<RoukfHandle, RoukfFilter>(layout, models, threads, o, q, firstAlone,
-                                                         observation);
+                                                         observation, relinearizations);
            }),
            "layout"_a, "models"_a, "threads"_a = 1, "sigma_points"_a = "simplex",
            "process_variance"_a = py::none(), "first_alone"_a = false, "observation"_a = py::none(),
+           "relinearizations"_a = 0,
            "models: a ForecastModel, or a list of one per thread; process_variance: unconstrained "
-           "variance per state entry per step (random walk of the parameters)");
+           "variance per state entry per step (random walk of the parameters); relinearizations: "
+           "analysis passes after the first that linearise the observation operator again at the "
+           "analysed observables (an iterated filter for the operator, no forecast repeated)");
 
   py::class_<UkfHandle, FilterHandle>(m, "UkfFilter", "Unscented Kalman filter (thesis Alg. 1)")
       .def(py::init([](const StochasticState& layout, const py::object& models, int threads,
                        const std::string& sigmaPoints, double spread, double kappa,
                        std::optional<Eigen::VectorXd> q, bool firstAlone,
-                       const py::object& observation) {
+                       const py::object& observation, int relinearizations) {
              UkfOptions o;
              o.sigmaPoints = parseSigmaPointKind(sigmaPoints);
              o.spread = spread;
              o.starKappa = kappa;
              return makeFilter<UkfHandle, UkfFilter>(layout, models, threads, o, q, firstAlone,
-                                                     observation);
+                                                     observation, relinearizations);
            }),
            "layout"_a, "models"_a, "threads"_a = 1, "sigma_points"_a = "star", "spread"_a = 1.0,
            "kappa"_a = 0.0, "process_variance"_a = py::none(), "first_alone"_a = false,
-           "observation"_a = py::none());
+           "observation"_a = py::none(), "relinearizations"_a = 0);
 
   py::class_<EtkfHandle, FilterHandle>(m, "EtkfFilter",
                                        "Ensemble transform Kalman filter (thesis Alg. 3)")
       .def(py::init([](const StochasticState& layout, const py::object& models, int threads,
                        int members, std::uint64_t seed, std::optional<Eigen::VectorXd> q,
-                       bool firstAlone, const py::object& observation) {
+                       bool firstAlone, const py::object& observation, int relinearizations) {
              EtkfOptions o;
              o.members = members;
              o.seed = seed;
              return makeFilter<EtkfHandle, EtkfFilter>(layout, models, threads, o, q, firstAlone,
-                                                       observation);
+                                                       observation, relinearizations);
            }),
            "layout"_a, "models"_a, "threads"_a = 1, "members"_a = 10, "seed"_a = 1,
-           "process_variance"_a = py::none(), "first_alone"_a = false, "observation"_a = py::none())
+           "process_variance"_a = py::none(), "first_alone"_a = false, "observation"_a = py::none(),
+           "relinearizations"_a = 0)
       .def_property_readonly("members", [](const EtkfHandle& h) {
         return static_cast<const EtkfFilter&>(*h.filter).members();
       });

@@ -143,6 +143,42 @@ def test_a_python_observation_operator_is_used():
         np.testing.assert_allclose(f.mean, m, rtol=1e-10)
 
 
+class Squares(ObservationOperator):
+    """y = (o0^2, o1^2), linearised at the mean it is given: predict is the tangent there."""
+
+    def linearize(self, mean_observable, frame):
+        self.at = np.array(mean_observable[:2])
+        return frame
+
+    def predict(self, observable):
+        return self.at**2 + 2 * self.at * (observable[:2] - self.at)
+
+
+def test_relinearizations_reach_the_maximum_a_posteriori_of_one_frame():
+    # One frame of a nonlinear operator: each pass linearises it again at the analysed mean, and
+    # the passes' fixed point is the MAP of the prior and the frame (Gauss-Newton, here in numpy).
+    mu, sd, r = np.array([0.8, -0.3, 1.0]), np.array([0.1, 0.2, 0.7]), 0.01
+    F = np.block([[A, B[:, None]], [np.zeros((1, 2)), np.ones((1, 1))]])
+    mf, Pf = F @ mu, F @ np.diag(sd**2) @ F.T
+    y = np.array([1.2, 0.5]) ** 2
+    x = mf.copy()
+    for _ in range(50):  # Gauss-Newton on the MAP cost
+        J = np.zeros((2, 3))
+        J[0, 0], J[1, 1] = 2 * x[0], 2 * x[1]
+        g = np.linalg.solve(Pf, x - mf) - J.T @ (y - x[:2] ** 2) / r**2
+        x -= np.linalg.solve(np.linalg.inv(Pf) + J.T @ J / r**2, g)
+    for passes in (0, 30):
+        f = UkfFilter(StochasticState(mu[:2], sd[:2], [Parameter("theta", mu[2], sd[2])]),
+                      LinearModel(), observation=Squares(), relinearizations=passes)
+        report = f.step(Observation(y, sigma=r))
+        if passes == 0:
+            assert report.relinearizations == 0
+            assert np.abs(f.mean - x).max() > 1e-2
+        else:
+            assert 1 <= report.relinearizations < passes
+            np.testing.assert_allclose(f.mean, x, atol=1e-3)
+
+
 def test_prediction_only_steps_and_errors():
     f = RoukfFilter(layout([0.1, 0.2]), LinearModel())
     assert f.step().observed == 0  # no observation: the step predicts only
