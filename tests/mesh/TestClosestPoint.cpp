@@ -33,6 +33,18 @@ TEST(ClosestPointOnTriangle, DegenerateTriangleGivesAPointOnIt) {
   EXPECT_NEAR((w(0) * a + w(1) * b + w(2) * c - Vec3(1.5, 0, 0)).norm(), 0.0, 1e-15);
 }
 
+// The distance from p to the surface, face by face.
+double bruteForceDistance(const TriMesh& surface, const Vec3& p) {
+  double best = 1e300;
+  for (Eigen::Index f = 0; f < surface.F.rows(); ++f) {
+    const Vec3 a = surface.V.row(surface.F(f, 0)), b = surface.V.row(surface.F(f, 1)),
+               c = surface.V.row(surface.F(f, 2));
+    const Vec3 w = closestPointOnTriangle(p, a, b, c);
+    best = std::min(best, (w(0) * a + w(1) * b + w(2) * c - p).norm());
+  }
+  return best;
+}
+
 TEST(SurfaceLocator, MatchesBruteForceOnRandomQueries) {
   const TetMesh tets = makeCylinderMesh(0.015, 0.18, 3000);
   const TriMesh surface = toTriMesh(tets, extractBoundary(tets));
@@ -42,13 +54,7 @@ TEST(SurfaceLocator, MatchesBruteForceOnRandomQueries) {
   std::uniform_real_distribution<double> xy(-0.03, 0.03), z(-0.05, 0.23);
   for (int q = 0; q < 500; ++q) {
     const Vec3 p(xy(rng), xy(rng), z(rng));
-    double best = 1e300;
-    for (Eigen::Index f = 0; f < surface.F.rows(); ++f) {
-      const Vec3 a = surface.V.row(surface.F(f, 0)), b = surface.V.row(surface.F(f, 1)),
-                 c = surface.V.row(surface.F(f, 2));
-      const Vec3 w = closestPointOnTriangle(p, a, b, c);
-      best = std::min(best, (w(0) * a + w(1) * b + w(2) * c - p).norm());
-    }
+    const double best = bruteForceDistance(surface, p);
     const SurfacePoint s = locator.closest(p);
     EXPECT_NEAR(s.distance, best, 1e-15) << q;
     EXPECT_NEAR((s.point - p).norm(), s.distance, 1e-15);
@@ -79,13 +85,7 @@ TEST(SurfaceLocator, RefittedToADeformedSurfaceMatchesBruteForce) {
   std::uniform_real_distribution<double> xy(-0.03, 0.03), z(-0.05, 0.23);
   for (int q = 0; q < 300; ++q) {
     const Vec3 p(xy(rng) + 0.005, xy(rng), z(rng));
-    double best = 1e300;
-    for (Eigen::Index f = 0; f < surface.F.rows(); ++f) {
-      const Vec3 a = surface.V.row(surface.F(f, 0)), b = surface.V.row(surface.F(f, 1)),
-                 c = surface.V.row(surface.F(f, 2));
-      const Vec3 w = closestPointOnTriangle(p, a, b, c);
-      best = std::min(best, (w(0) * a + w(1) * b + w(2) * c - p).norm());
-    }
+    const double best = bruteForceDistance(surface, p);
     const SurfacePoint s = locator.closest(p);
     EXPECT_NEAR(s.distance, best, 1e-15) << q;
     EXPECT_NEAR(rebuilt.closest(p).distance, s.distance, 1e-15) << q;

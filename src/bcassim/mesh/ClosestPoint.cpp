@@ -41,29 +41,21 @@ Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const V
 }
 
 SurfaceLocator::SurfaceLocator(const TriMesh& surface) {
-  const Eigen::Index nf = surface.F.rows(), nv = surface.V.rows();
-  if (nf == 0)
+  if (surface.F.rows() == 0)
     throw InputError("surface locator: surface has no faces; expected at least one triangle");
-  corners_.resize(3 * nf);
-  std::vector<AabbTree::Box> boxes(nf);
-  for (Eigen::Index f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int v = surface.F(f, k);
-      if (v < 0 || v >= nv)
-        throw InputError(fmt::format(
-            "surface locator: face {} refers to vertex {}; expected an index in [0, {})", f, v,
-            nv));
-      corners_[3 * f + k] = surface.V.row(v).transpose();
-      boxes[f].extend(corners_[3 * f + k]);
-    }
-  tree_ = AabbTree(boxes);
+  corners_.resize(3 * static_cast<size_t>(surface.F.rows()));
+  tree_ = AabbTree(copyCorners(surface));
 }
 
 void SurfaceLocator::refit(const TriMesh& surface) {
+  if (3 * static_cast<size_t>(surface.F.rows()) != corners_.size())
+    throw InputError(fmt::format("surface locator: refit with {} faces; it was built with {}",
+                                 surface.F.rows(), corners_.size() / 3));
+  tree_.refit(copyCorners(surface));
+}
+
+std::vector<AabbTree::Box> SurfaceLocator::copyCorners(const TriMesh& surface) {
   const Eigen::Index nf = surface.F.rows(), nv = surface.V.rows();
-  if (3 * nf != static_cast<Eigen::Index>(corners_.size()))
-    throw InputError(fmt::format("surface locator: refit with {} faces; it was built with {}", nf,
-                                 corners_.size() / 3));
   std::vector<AabbTree::Box> boxes(static_cast<size_t>(nf));
   for (Eigen::Index f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
@@ -75,7 +67,7 @@ void SurfaceLocator::refit(const TriMesh& surface) {
       corners_[3 * f + k] = surface.V.row(v).transpose();
       boxes[static_cast<size_t>(f)].extend(corners_[3 * f + k]);
     }
-  tree_.refit(boxes);
+  return boxes;
 }
 
 SurfacePoint SurfaceLocator::closest(const Vec3& p) const {

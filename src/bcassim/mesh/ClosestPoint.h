@@ -41,6 +41,9 @@ class SurfaceLocator {
   int numFaces() const { return static_cast<int>(corners_.size() / 3); }
 
  private:
+  // Copies the faces' corners (corners_ sized already) and returns each face's box.
+  std::vector<AabbTree::Box> copyCorners(const TriMesh& surface);
+
   std::vector<Vec3> corners_;  // 3 per face, face-major, for cache-friendly leaf tests
   AabbTree tree_;
 };
