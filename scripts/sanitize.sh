@@ -21,5 +21,6 @@ heavy+='|Assimilation\.SmallCylinderYoungModulusSameMesh$|Assimilation\.CutLigam
 # An atlas built and transferred (LDDMM) and 450 real-time frames: minutes in Release terms, far
 # more here; their code runs here in the atlas tests and the other RealTimeModel tests.
 heavy+='|LiverAtlasMode\.UnannotatedLiverGetsItsSpringsOnTheTransferredAtlasCurve$'
-heavy+='|RealTimeModel\.OlderTangentsDriftSlowlyFromTheOwnStep$)'
+heavy+='|RealTimeModel\.OlderTangentsDriftSlowlyFromTheOwnStep$'
+heavy+='|PointCloudForce\.AnOffCentreFootprintIsRecoveredWithTheForce$)'
 cd "$BUILD" && ctest --output-on-failure -j"$JOBS" --timeout 1500 -E "$heavy"
