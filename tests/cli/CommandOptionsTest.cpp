@@ -170,8 +170,9 @@ TEST(CommandOptions, LiverTrackedSurfaceOptionsRefuseBadValuesNamingTheOption) {
       {"--observe points", "--observe: points not in {tackers,surface}"},
       {"--surface-coverage 2", "--surface-coverage: Value 2 not in range 0.010000 to 1.000000"},
       {"--surface-points 5", "--surface-points: Value 5 not in range 10 to 1000000"},
-      {"--surface-outliers 0.7",
-       "--surface-outliers: Value 0.7 not in range 0.000000 to 0.500000"}};
+      {"--surface-outliers 0.7", "--surface-outliers: Value 0.7 not in range 0.000000 to 0.500000"},
+      {"--surface-relinearizations -1",
+       "--surface-relinearizations: Value -1 not in range 0 to 100"}};
   for (const auto& [option, message] : refused) {
     SCOPED_TRACE(option);
     const test::CliResult r = runBcassim(dir, std::string("liver tracked phantom ") + option);
@@ -183,7 +184,8 @@ TEST(CommandOptions, LiverTrackedSurfaceOptionsRefuseBadValuesNamingTheOption) {
   for (const char* line : {"--observe TEXT:{tackers,surface}=tackers",
                            "--surface-coverage FLOAT:FLOAT in [0.01 - 1]=0.3",
                            "--surface-points INT:INT in [10 - 1000000]=500",
-                           "--surface-outliers FLOAT:FLOAT in [0 - 0.5]=0.01"})
+                           "--surface-outliers FLOAT:FLOAT in [0 - 0.5]=0.01",
+                           "--surface-relinearizations INT:INT in [0 - 100]=0"})
     EXPECT_TRUE(contains(help, line)) << line;
 }
 

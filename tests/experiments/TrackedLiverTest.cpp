@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
 #include <random>
 #include <set>
 
@@ -239,6 +240,35 @@ TEST(TrackedLiverPipeline, SmallPhantomFromAPartialSurfaceRegistersAndBeatsVesse
   for (const char* file : {"tre.csv", "summary.csv", "camera/detections.csv",
                            "register/transform.csv", "surface_samples.csv"})
     EXPECT_TRUE(std::filesystem::exists(dir / file)) << file;
+}
+
+// --surface-relinearizations reaches the filter: the estimation's filter.csv logs the passes.
+TEST(TrackedLiverPipeline, SurfaceRelinearizationsReachTheEstimation) {
+  const auto dir = freshDir();
+  TrackedLiverOptions o;
+  o.observe = TrackedObservation::Surface;
+  o.surfaceRelinearizations = 3;
+  o.liver.surface = kLiverPhantomName;
+  o.liver.coarseNodes = 1200;
+  o.liver.fineNodes = 2500;
+  o.liver.groups = 4;
+  o.liver.steps = 4;
+  o.liver.observedSteps = 4;
+  o.liver.threads = 2;
+  runTrackedLiverPipeline(o, dir.string());
+  std::ifstream csv(dir / "estimate" / "filter.csv");
+  std::string header, row;
+  ASSERT_TRUE(std::getline(csv, header));
+  ASSERT_EQ(header.substr(header.rfind(',') + 1), "cloud_relinearizations");
+  int steps = 0, passes = 0;
+  while (std::getline(csv, row)) {
+    const int taken = std::stoi(row.substr(row.rfind(',') + 1));
+    EXPECT_LE(taken, 3) << row;
+    passes += taken;
+    ++steps;
+  }
+  EXPECT_EQ(steps, 4);
+  EXPECT_GT(passes, 0);
 }
 
 // LiTS-11 (shared data) at the pipeline's full-size meshes, a few steps: its 14 tackers on a

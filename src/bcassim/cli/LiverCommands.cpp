@@ -448,6 +448,12 @@ class LiverTrackedCommand : public Command {
                    "points' box grown by 3 cm)")
         ->check(CLI::Range(0.0, 0.5))
         ->capture_default_str();
+    app.add_option("--surface-relinearizations", o.surfaceRelinearizations,
+                   "--observe surface: analysis passes after the first per frame, each finding the "
+                   "closest points again on the surface the last pass analysed (no forecast "
+                   "repeated; stops earlier once a pass moves the estimate by < 0.1 of its spread)")
+        ->check(CLI::Range(0, 100))
+        ->capture_default_str();
     app.add_option("--registration-frames", o.registrationFrames,
                    "First frames averaged per tacker and registered onto the model (ICP; "
                    "--observe surface: their points together)")

@@ -242,6 +242,7 @@ PointCloudSettings observeSurface(const TrackedLiverOptions& o, const MarkerTrac
 
   PointCloudSettings pc;
   pc.source = detections.string();
+  pc.relinearizations = o.surfaceRelinearizations;
   const auto steps = static_cast<size_t>(spec.options.steps);
   pc.frames.assign(steps + 1, Eigen::MatrixX3d());
   pc.present.assign(steps + 1, false);

@@ -30,6 +30,10 @@ struct TrackedLiverOptions {
   TrackedObservation observe = TrackedObservation::Tackers;
   CameraOptions camera;  // pose, noise and seed for both; dropouts and spurious: tackers only
   SurfaceCameraOptions surfaceCamera;  // observe = Surface
+  // observe = Surface: analysis passes after the first per frame, the closest points found again
+  // on the analysed surface (point_cloud.relinearizations; 0: one analysis, as the tables of
+  // docs/results.md were made).
+  int surfaceRelinearizations = 0;
   TrackerOptions tracker;
   // The camera sees the liver at rest for restFrames frames (t = -restFrames dt .. 0, as while
   // the tackers are placed) before the manipulation starts; the first registrationFrames frames
