@@ -311,14 +311,18 @@ TEST(ObservationOperator, RelinearisedAtTheAnalysedMeanEveryFilterReachesTheMaxi
         EXPECT_LE(report.relinearizations, 10) << label;
       }
     };
+    auto configure = [&, passes = passes, tolerance = tolerance](FilterOptions& o,
+                                                                 QuadraticOperator& op) {
+      o.observation = &op;
+      o.relinearizations = passes;
+      o.relinearizationTolerance = tolerance;
+    };
     {
       ParameterObservingModel model;
       QuadraticOperator op;
       SerialExecutor serial;
       RoukfOptions o;
-      o.observation = &op;
-      o.relinearizations = passes;
-      o.relinearizationTolerance = tolerance;
+      configure(o, op);
       RoukfFilter roukf(layout, {&model}, serial, o);
       check(roukf, op, "roukf");
     }
@@ -327,9 +331,7 @@ TEST(ObservationOperator, RelinearisedAtTheAnalysedMeanEveryFilterReachesTheMaxi
       QuadraticOperator op;
       SerialExecutor serial;
       UkfOptions o;
-      o.observation = &op;
-      o.relinearizations = passes;
-      o.relinearizationTolerance = tolerance;
+      configure(o, op);
       UkfFilter ukf(layout, {&model}, serial, o);
       check(ukf, op, "ukf");
     }
@@ -341,10 +343,8 @@ TEST(ObservationOperator, RelinearisedAtTheAnalysedMeanEveryFilterReachesTheMaxi
       const SigmaPointSet simplex = simplexSigmaPoints(layout.size());
       const double N = static_cast<double>(simplex.count());
       EtkfOptions o;
-      o.observation = &op;
+      configure(o, op);
       o.members = static_cast<int>(N);
-      o.relinearizations = passes;
-      o.relinearizationTolerance = tolerance;
       EtkfFilter etkf(layout, {&model}, serial, o);
       etkf.reset(simplex.points(layout.initialMean(),
                                 std::sqrt((N - 1) / N) * sd.asDiagonal().toDenseMatrix()));

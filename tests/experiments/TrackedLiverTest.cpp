@@ -166,18 +166,25 @@ TEST(TrackingScore, CountsSwitchesWrongLabelsAndSpuriousIdsOfAHandMadeCase) {
   EXPECT_EQ(spurious.spuriousLabelled, 1);
 }
 
-// Small-size thesis §5.3 on the phantom (no atlas: one shape; the springs lie on its own
-// curve): what must hold whatever the sizes.
-TEST(TrackedLiverPipeline, SmallPhantomTracksRegistersAndBeatsVesselsOnly) {
-  const auto dir = freshDir();
+// The pipeline on the small phantom at reduced size (no atlas: one shape; the springs lie on its
+// own curve), over `steps` steps all observed.
+TrackedLiverOptions smallPhantom(int steps) {
   TrackedLiverOptions o;
   o.liver.surface = kLiverPhantomName;
   o.liver.coarseNodes = 1200;
   o.liver.fineNodes = 2500;
   o.liver.groups = 4;
-  o.liver.steps = 150;
-  o.liver.observedSteps = 150;
+  o.liver.steps = steps;
+  o.liver.observedSteps = steps;
   o.liver.threads = 2;
+  return o;
+}
+
+// Small-size thesis §5.3 on the phantom (no atlas: one shape; the springs lie on its own
+// curve): what must hold whatever the sizes.
+TEST(TrackedLiverPipeline, SmallPhantomTracksRegistersAndBeatsVesselsOnly) {
+  const auto dir = freshDir();
+  TrackedLiverOptions o = smallPhantom(150);
   const TrackedLiverReport r = runTrackedLiverPipeline(o, dir.string());
 
   // Tracking: one id per tacker, kept through 20 % dropouts; no spurious detection labelled.
@@ -213,15 +220,8 @@ TEST(TrackedLiverPipeline, SmallPhantomTracksRegistersAndBeatsVesselsOnly) {
 // tackers, registered by trimmed ICP from its first frames, then observed point-to-plane.
 TEST(TrackedLiverPipeline, SmallPhantomFromAPartialSurfaceRegistersAndBeatsVesselsOnly) {
   const auto dir = freshDir();
-  TrackedLiverOptions o;
+  TrackedLiverOptions o = smallPhantom(150);
   o.observe = TrackedObservation::Surface;
-  o.liver.surface = kLiverPhantomName;
-  o.liver.coarseNodes = 1200;
-  o.liver.fineNodes = 2500;
-  o.liver.groups = 4;
-  o.liver.steps = 150;
-  o.liver.observedSteps = 150;
-  o.liver.threads = 2;
   const TrackedLiverReport r = runTrackedLiverPipeline(o, dir.string());
   EXPECT_TRUE(r.surface);
   EXPECT_EQ(r.tackers, 0);
@@ -245,16 +245,9 @@ TEST(TrackedLiverPipeline, SmallPhantomFromAPartialSurfaceRegistersAndBeatsVesse
 // --surface-relinearizations reaches the filter: the estimation's filter.csv logs the passes.
 TEST(TrackedLiverPipeline, SurfaceRelinearizationsReachTheEstimation) {
   const auto dir = freshDir();
-  TrackedLiverOptions o;
+  TrackedLiverOptions o = smallPhantom(4);
   o.observe = TrackedObservation::Surface;
   o.surfaceRelinearizations = 3;
-  o.liver.surface = kLiverPhantomName;
-  o.liver.coarseNodes = 1200;
-  o.liver.fineNodes = 2500;
-  o.liver.groups = 4;
-  o.liver.steps = 4;
-  o.liver.observedSteps = 4;
-  o.liver.threads = 2;
   runTrackedLiverPipeline(o, dir.string());
   std::ifstream csv(dir / "estimate" / "filter.csv");
   std::string header, row;
