@@ -5,6 +5,18 @@
 #include "bcassim/Error.h"
 
 namespace bcassim {
+namespace {
+
+// model.loads[index]; `kind` ("force", "footprint") names the parameter in the error.
+template <class Model>
+auto& loadOf(Model& model, int index, const char* kind) {
+  if (index < 0 || index >= static_cast<int>(model.loads.size()))
+    throw InputError(fmt::format("{} parameter: load {} does not exist ({} loads)", kind, index,
+                                 model.loads.size()));
+  return model.loads[static_cast<size_t>(index)];
+}
+
+}  // namespace
 
 std::string defaultParameterName(const ModelParameterTarget& target) {
   if (const auto* e = std::get_if<YoungModulusTarget>(&target))
@@ -29,10 +41,7 @@ void applyParameter(const ModelParameterTarget& target, double value, Mechanical
     return;
   }
   if (const auto* f = std::get_if<LoadForceTarget>(&target)) {
-    if (f->load < 0 || f->load >= static_cast<int>(model.loads.size()))
-      throw InputError(fmt::format("force parameter: load {} does not exist ({} loads)", f->load,
-                                   model.loads.size()));
-    NodalLoad& load = model.loads[static_cast<size_t>(f->load)];
+    NodalLoad& load = loadOf(model, f->load, "force");
     if (!load.frames.empty())
       throw InputError(fmt::format(
           "force parameter: load {} is given frame by frame; an estimated force needs a constant "
@@ -42,10 +51,7 @@ void applyParameter(const ModelParameterTarget& target, double value, Mechanical
     return;
   }
   if (const auto* f = std::get_if<LoadFootprintTarget>(&target)) {
-    if (f->load < 0 || f->load >= static_cast<int>(model.loads.size()))
-      throw InputError(fmt::format("footprint parameter: load {} does not exist ({} loads)",
-                                   f->load, model.loads.size()));
-    NodalLoad& load = model.loads[static_cast<size_t>(f->load)];
+    NodalLoad& load = loadOf(model, f->load, "footprint");
     if (!load.frames.empty())
       throw InputError(fmt::format(
           "footprint parameter: load {} is given frame by frame; an estimated footprint needs a "
@@ -90,16 +96,10 @@ double readParameter(const ModelParameterTarget& target, const MechanicalModel& 
         model.elasticity.material(e->region));
   }
   if (const auto* f = std::get_if<LoadForceTarget>(&target)) {
-    if (f->load < 0 || f->load >= static_cast<int>(model.loads.size()))
-      throw InputError(fmt::format("force parameter: load {} does not exist ({} loads)", f->load,
-                                   model.loads.size()));
-    return model.loads[static_cast<size_t>(f->load)].totalForce()(f->component);
+    return loadOf(model, f->load, "force").totalForce()(f->component);
   }
   if (const auto* f = std::get_if<LoadFootprintTarget>(&target)) {
-    if (f->load < 0 || f->load >= static_cast<int>(model.loads.size()))
-      throw InputError(fmt::format("footprint parameter: load {} does not exist ({} loads)",
-                                   f->load, model.loads.size()));
-    const NodalLoad& load = model.loads[static_cast<size_t>(f->load)];
+    const NodalLoad& load = loadOf(model, f->load, "footprint");
     return load.footprint ? load.footprint->coefficient(f->coefficient) : 0.0;
   }
   const auto& k = std::get<SpringCoefficientTarget>(target);
