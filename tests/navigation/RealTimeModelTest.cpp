@@ -123,7 +123,10 @@ TEST(RealTimeModel, FrozenTangentsBuiltBehindTheLoopStayOnTheOwnStep) {
       "frozen tangent; median step own %.2f ms, frozen %.2f ms\n",
       1e3 * r.largestMotion, 1e3 * r.largestGap, r.framesWithTangent, r.ownMs, r.frozenMs);
   EXPECT_GT(r.largestMotion, 0.005);
-  EXPECT_LT(r.largestGap, 0.02 * r.largestMotion);
+  // Behind the loop a tangent's age depends on the thread timing: up to 5 frames (a frame whose
+  // tangent is 6 old takes its own step), so the bound is that of tangents refreshed every 8
+  // frames above, not every 4 (an idle machine gives ~1.5 %, a loaded ctest -j2 gave 2.3 %).
+  EXPECT_LT(r.largestGap, 0.06 * r.largestMotion);
 }
 
 }  // namespace
