@@ -524,6 +524,53 @@ TEST(SolverCholeskyFactor, SupernodalSweepsMatchCholmodInDoubleAndApproximateItI
   EXPECT_LE(relativeError(xSingle, directSolve(A2, b)), 1e-4);
 }
 
+// The sweeps split into subtrees of the elimination tree (Workspace::setThreads): a 16^3
+// Laplacian's tree splits into groups and its top separators are large enough to be cut into
+// pieces too. Every thread count gives the same bits; the result is the serial sweep's to
+// round-off (not bit for bit: the groups' updates of the top rows are summed in another order).
+TEST(SolverCholeskyFactor, SplitSweepsGiveTheSameBitsOnAnyNumberOfThreads) {
+  const SparseMatrix A = laplacian3d(16, 0.05);
+  CholeskyFactor factor;
+  factor.factorize(A);
+  const Eigen::VectorXd b = randomVector(A.rows(), 83);
+  Eigen::VectorXd exact, serialSingle, serialDouble;
+  factor.solve(b, exact);
+  CholeskyFactor::Workspace serial;
+  factor.solveSinglePrecision(b, serialSingle, serial);
+  factor.solveSupernodalDouble(b, serialDouble, serial);
+  Eigen::VectorXd single1, double1;
+  for (int threads : {1, 2, 3}) {
+    CholeskyFactor::Workspace work;
+    work.setThreads(threads);
+    Eigen::VectorXd xs, xd;
+    factor.solveSinglePrecision(b, xs, work);
+    factor.solveSupernodalDouble(b, xd, work);
+    EXPECT_LE(relativeError(xd, exact), 1e-13) << threads;
+    EXPECT_LE(relativeError(xs, exact), 1e-4) << threads;
+    EXPECT_LE(relativeError(xs, serialSingle), 1e-5) << threads;
+    if (threads == 1) {
+      single1 = xs;
+      double1 = xd;
+      // Another order of sums: were the split a copy of the serial sweep, this would be 0.
+      EXPECT_GT((xs - serialSingle).cwiseAbs().maxCoeff(), 0.0);
+    } else {
+      EXPECT_EQ((xs - single1).cwiseAbs().maxCoeff(), 0.0) << threads;
+      EXPECT_EQ((xd - double1).cwiseAbs().maxCoeff(), 0.0) << threads;
+    }
+  }
+  // A factor of a few supernodes (a tree too small to split) solves the same way.
+  const SparseMatrix small = laplacian3d(3, 0.5);
+  CholeskyFactor smallFactor;
+  smallFactor.factorize(small);
+  CholeskyFactor::Workspace work;
+  work.setThreads(2);
+  Eigen::VectorXd x;
+  const Eigen::VectorXd bs = randomVector(small.rows(), 84);
+  smallFactor.solveSupernodalDouble(bs, x, work);
+  EXPECT_LE(relativeError(x, directSolve(small, bs)), 1e-13);
+  EXPECT_THROW(work.setThreads(-1), std::invalid_argument);
+}
+
 TEST(SolverFactorizedPcg, SinglePrecisionPreconditionerStillConvergesInDouble) {
   const SparseMatrix A0 = laplacian3d(14, 0.05);
   const SparseMatrix A1 = perturb(A0, 0.05, 11);

@@ -3,7 +3,12 @@
 #include <cholmod.h>
 #include <dlfcn.h>
 #include <omp.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <mutex>
 #include <new>
@@ -74,12 +79,314 @@ cholmod_dense denseView(const double* data, Eigen::Index rows, Eigen::Index cols
 
 }  // namespace
 
+namespace {
+
+// The supernodes of a CHOLMOD supernodal factor (supernode k holds columns super[k]..super[k+1]-1
+// as a column-major block of nsrow rows, whose first nscol row indices are those columns) with its
+// values Lx in the working precision Scalar, and the two sweeps' work on one supernode.
+template <typename Scalar>
+struct Supernodes {
+  using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
+  using Block = Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>, 0,
+                           Eigen::OuterStride<>>;
+  const Scalar* Lx;
+  const int* super;
+  const int* pi;
+  const int* px;
+  const int* rows;
+
+  Supernodes(const cholmod_factor& L, const Scalar* values)
+      : Lx(values),
+        super(static_cast<const int*>(L.super)),
+        pi(static_cast<const int*>(L.pi)),
+        px(static_cast<const int*>(L.px)),
+        rows(static_cast<const int*>(L.s)) {}
+
+  // y_k = L_kk^-1 y_k; then `update(row, value)` for each row below: y[row] -= value.
+  template <class Update>
+  void forward(int k, Vector& y, Vector& t, Update&& update) const {
+    const int first = super[k], nscol = super[k + 1] - first;
+    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
+    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
+    auto yk = y.segment(first, nscol);
+    block.topRows(nscol).template triangularView<Eigen::Lower>().solveInPlace(yk);
+    if (below == 0) return;
+    auto tk = t.head(below);
+    tk.noalias() = block.bottomRows(below) * yk;
+    const int* r = rows + pi[k] + nscol;
+    for (int i = 0; i < below; ++i) update(r[i], tk[i]);
+  }
+
+  // y_k = L_kk^-T (y_k - L_bk^T y_b), b the rows below (solved before: they are ancestors).
+  void backward(int k, Vector& y, Vector& t) const {
+    const int first = super[k], nscol = super[k + 1] - first;
+    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
+    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
+    auto yk = y.segment(first, nscol);
+    if (below > 0) {
+      auto tk = t.head(below);
+      const int* r = rows + pi[k] + nscol;
+      for (int i = 0; i < below; ++i) tk[i] = y[r[i]];
+      yk.noalias() -= block.bottomRows(below).transpose() * tk;
+    }
+    block.topRows(nscol).template triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
+  }
+
+  // The product of a large supernode cut into kProductChunks pieces for `each(piece)` to run,
+  // concurrently or not: forward and backward with the same arithmetic either way.
+  static constexpr int kProductChunks = 4;
+  static constexpr long kChunkedEntries = 1L << 16;
+  bool chunked(int k) const {
+    const long nscol = super[k + 1] - super[k], below = pi[k + 1] - pi[k] - nscol;
+    return below * nscol >= kChunkedEntries;
+  }
+  static std::pair<int, int> piece(int c, int size) {
+    const int lo = static_cast<int>(static_cast<long>(size) * c / kProductChunks);
+    return {lo, static_cast<int>(static_cast<long>(size) * (c + 1) / kProductChunks) - lo};
+  }
+
+  template <class Each>
+  void forwardChunked(int k, Vector& y, Vector& t, Each&& each) const {
+    const int first = super[k], nscol = super[k + 1] - first;
+    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
+    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
+    auto yk = y.segment(first, nscol);
+    block.topRows(nscol).template triangularView<Eigen::Lower>().solveInPlace(yk);
+    each([&](int c) {  // rows of the product
+      const auto [lo, len] = piece(c, below);
+      t.segment(lo, len).noalias() = block.middleRows(nscol + lo, len) * yk;
+    });
+    const int* r = rows + pi[k] + nscol;
+    for (int i = 0; i < below; ++i) y[r[i]] -= t[i];
+  }
+
+  template <class Each>
+  void backwardChunked(int k, Vector& y, Vector& t, Each&& each) const {
+    const int first = super[k], nscol = super[k + 1] - first;
+    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
+    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
+    auto yk = y.segment(first, nscol);
+    auto tk = t.head(below);
+    const int* r = rows + pi[k] + nscol;
+    for (int i = 0; i < below; ++i) tk[i] = y[r[i]];
+    each([&](int c) {  // columns of the product
+      const auto [lo, len] = piece(c, nscol);
+      yk.segment(lo, len).noalias() -= block.bottomRows(below).middleCols(lo, len).transpose() * tk;
+    });
+    block.topRows(nscol).template triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
+  }
+};
+
+// x = P^T L^{-T} L^{-1} P b, one supernode after the other.
+template <typename Scalar>
+void supernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Eigen::VectorXd& b,
+                     Eigen::VectorXd& x, Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& y,
+                     Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& t) {
+  const Supernodes<Scalar> sn(L, Lx);
+  const auto n = static_cast<Eigen::Index>(L.n);
+  const auto nsuper = static_cast<int>(L.nsuper);
+  const int* perm = static_cast<const int*>(L.Perm);
+  y.resize(n);
+  t.resize(static_cast<Eigen::Index>(L.maxesize));
+  for (Eigen::Index i = 0; i < n; ++i) y[i] = static_cast<Scalar>(b[perm[i]]);
+  for (int k = 0; k < nsuper; ++k) sn.forward(k, y, t, [&](int r, Scalar v) { y[r] -= v; });
+  for (int k = nsuper - 1; k >= 0; --k) sn.backward(k, y, t);
+  x.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = static_cast<double>(y[i]);
+}
+
+// The supernodes of L in kSplitGroups groups of whole subtrees of the supernodal elimination tree,
+// which a sweep may run concurrently, and the `top` supernodes above them (every ancestor of a
+// group's supernode is in its subtree or in top), which run alone. The groups do not depend on the
+// number of threads, so neither does the result.
+constexpr int kSplitGroups = 4;
+
+}  // namespace
+
+struct SubtreeSplit {
+  std::vector<std::vector<int>> groups;  // each ascending
+  std::vector<int> top;                  // ascending
+  std::vector<int> topRows;              // the columns of the top supernodes
+  std::vector<int> slot;                 // slot[row]: index into topRows, or -1
+};
+
+namespace {
+
+// Splits the tree greedily: the heaviest subtree (by factor entries, the sweeps' work) gives its
+// root to the top and its children to the candidates, until the heaviest is within 10 % of an
+// equal share or the top holds a third of the work; the subtrees then go to the lightest group,
+// heaviest first.
+SubtreeSplit splitSupernodes(const cholmod_factor& L) {
+  const auto nsuper = static_cast<int>(L.nsuper);
+  const int* super = static_cast<const int*>(L.super);
+  const int* pi = static_cast<const int*>(L.pi);
+  const int* rows = static_cast<const int*>(L.s);
+  std::vector<int> superOf(L.n), parent(static_cast<size_t>(nsuper), -1);
+  std::vector<double> weight(static_cast<size_t>(nsuper)), subtree(static_cast<size_t>(nsuper));
+  std::vector<std::vector<int>> children(static_cast<size_t>(nsuper));
+  for (int k = 0; k < nsuper; ++k)
+    for (int c = super[k]; c < super[k + 1]; ++c) superOf[static_cast<size_t>(c)] = k;
+  std::vector<int> candidates;
+  double total = 0;
+  for (int k = 0; k < nsuper; ++k) {
+    const int nscol = super[k + 1] - super[k], nsrow = pi[k + 1] - pi[k];
+    const auto kk = static_cast<size_t>(k);
+    weight[kk] = static_cast<double>(nsrow) * nscol;
+    subtree[kk] += weight[kk];  // children (lower numbers) have added theirs
+    total += weight[kk];
+    if (nsrow > nscol) {
+      // The first row below the diagonal block is the parent's: ancestors have higher columns.
+      parent[kk] = superOf[static_cast<size_t>(rows[pi[k] + nscol])];
+      subtree[static_cast<size_t>(parent[kk])] += subtree[kk];
+      children[static_cast<size_t>(parent[kk])].push_back(k);
+    } else {
+      candidates.push_back(k);
+    }
+  }
+  SubtreeSplit split;
+  double topWeight = 0;
+  for (;;) {
+    const auto heaviest = std::max_element(candidates.begin(), candidates.end(), [&](int a, int b) {
+      return subtree[static_cast<size_t>(a)] < subtree[static_cast<size_t>(b)];
+    });
+    if (heaviest == candidates.end()) break;
+    const int h = *heaviest;
+    const auto hh = static_cast<size_t>(h);
+    if (subtree[hh] <= 1.1 * (total - topWeight) / kSplitGroups || split.top.size() >= 32) break;
+    split.top.push_back(h);
+    topWeight += weight[hh];
+    candidates.erase(heaviest);
+    candidates.insert(candidates.end(), children[hh].begin(), children[hh].end());
+  }
+  std::sort(candidates.begin(), candidates.end(), [&](int a, int b) {
+    return subtree[static_cast<size_t>(a)] > subtree[static_cast<size_t>(b)] ||
+           (subtree[static_cast<size_t>(a)] == subtree[static_cast<size_t>(b)] && a < b);
+  });
+  std::vector<double> load(kSplitGroups, 0.0);
+  std::vector<int> groupOf(static_cast<size_t>(nsuper), -1);
+  for (int c : candidates) {
+    const auto g = std::min_element(load.begin(), load.end()) - load.begin();
+    load[static_cast<size_t>(g)] += subtree[static_cast<size_t>(c)];
+    groupOf[static_cast<size_t>(c)] = static_cast<int>(g);
+  }
+  for (int k : split.top) groupOf[static_cast<size_t>(k)] = kSplitGroups;
+  // A supernode outside the top belongs to the group of its first ancestor that has one.
+  split.groups.resize(kSplitGroups);
+  for (int k = nsuper - 1; k >= 0; --k) {
+    const auto kk = static_cast<size_t>(k);
+    if (groupOf[kk] < 0) groupOf[kk] = groupOf[static_cast<size_t>(parent[kk])];
+  }
+  for (int k = 0; k < nsuper; ++k) {
+    const int g = groupOf[static_cast<size_t>(k)];
+    if (g < kSplitGroups) split.groups[static_cast<size_t>(g)].push_back(k);
+  }
+  std::sort(split.top.begin(), split.top.end());
+  split.slot.assign(L.n, -1);
+  for (int k : split.top)
+    for (int c = super[k]; c < super[k + 1]; ++c) {
+      split.slot[static_cast<size_t>(c)] = static_cast<int>(split.topRows.size());
+      split.topRows.push_back(c);
+    }
+  return split;
+}
+
+// Per-group scratch of a split solve in precision Scalar.
+template <typename Scalar>
+struct SplitScratch {
+  using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
+  std::vector<Vector> t, delta;  // per group: products; what the group takes from the top rows
+};
+
+// supernodalSolve with the groups of `split` on `arena`'s threads: the forward sweep runs the
+// groups concurrently, each collecting what it takes from the top rows in its own delta, then the
+// deltas in group order, then the top; the backward sweep runs the top, then the groups (they only
+// read the top rows). Any number of threads gives the same bits.
+template <typename Scalar>
+void splitSupernodalSolve(const cholmod_factor& L, const Scalar* Lx, const SubtreeSplit& split,
+                          tbb::task_arena& arena, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                          Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& y,
+                          Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& t,
+                          SplitScratch<Scalar>& scratch) {
+  const Supernodes<Scalar> sn(L, Lx);
+  const auto n = static_cast<Eigen::Index>(L.n);
+  const int* perm = static_cast<const int*>(L.Perm);
+  const auto topSize = static_cast<Eigen::Index>(split.topRows.size());
+  y.resize(n);
+  t.resize(static_cast<Eigen::Index>(L.maxesize));
+  scratch.t.resize(kSplitGroups);
+  scratch.delta.resize(kSplitGroups);
+  for (int g = 0; g < kSplitGroups; ++g) {
+    scratch.t[static_cast<size_t>(g)].resize(static_cast<Eigen::Index>(L.maxesize));
+    scratch.delta[static_cast<size_t>(g)].setZero(topSize);
+  }
+  for (Eigen::Index i = 0; i < n; ++i) y[i] = static_cast<Scalar>(b[perm[i]]);
+  const int* slot = split.slot.data();
+  const auto eachGroup = [&](auto&& sweep) {
+    arena.execute([&] {
+      tbb::parallel_for(
+          tbb::blocked_range<int>(0, kSplitGroups, 1),
+          [&](const tbb::blocked_range<int>& range) {
+            for (int g = range.begin(); g < range.end(); ++g) sweep(g);
+          },
+          tbb::simple_partitioner());
+    });
+  };
+  eachGroup([&](int g) {
+    auto& tg = scratch.t[static_cast<size_t>(g)];
+    auto& delta = scratch.delta[static_cast<size_t>(g)];
+    for (int k : split.groups[static_cast<size_t>(g)])
+      sn.forward(k, y, tg, [&](int r, Scalar v) {
+        if (const int s = slot[r]; s >= 0)
+          delta[s] += v;
+        else
+          y[r] -= v;
+      });
+  });
+  for (int g = 0; g < kSplitGroups; ++g)
+    for (Eigen::Index s = 0; s < topSize; ++s)
+      y[split.topRows[static_cast<size_t>(s)]] -= scratch.delta[static_cast<size_t>(g)][s];
+  const auto eachPiece = [&](auto&& work) {
+    arena.execute([&] {
+      tbb::parallel_for(
+          tbb::blocked_range<int>(0, Supernodes<Scalar>::kProductChunks, 1),
+          [&](const tbb::blocked_range<int>& range) {
+            for (int c = range.begin(); c < range.end(); ++c) work(c);
+          },
+          tbb::simple_partitioner());
+    });
+  };
+  for (int k : split.top) {
+    if (sn.chunked(k))
+      sn.forwardChunked(k, y, t, eachPiece);
+    else
+      sn.forward(k, y, t, [&](int r, Scalar v) { y[r] -= v; });
+  }
+  for (auto k = split.top.rbegin(); k != split.top.rend(); ++k) {
+    if (sn.chunked(*k))
+      sn.backwardChunked(*k, y, t, eachPiece);
+    else
+      sn.backward(*k, y, t);
+  }
+  eachGroup([&](int g) {
+    auto& tg = scratch.t[static_cast<size_t>(g)];
+    const std::vector<int>& group = split.groups[static_cast<size_t>(g)];
+    for (auto k = group.rbegin(); k != group.rend(); ++k) sn.backward(*k, y, tg);
+  });
+  x.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = static_cast<double>(y[i]);
+}
+
+}  // namespace
+
 struct CholeskyFactor::Symbolic {
   Common common;
   cholmod_factor* L = nullptr;  // supernodal, pattern only; copied by every Numeric
   Eigen::Index rows = 0;
   Eigen::Index matrixNonZeros = 0;
   std::int64_t factorNonZeros = 0;
+  // The supernodes' split for solves on several threads, made by the first such solve.
+  mutable std::once_flag splitMade;
+  mutable std::unique_ptr<SubtreeSplit> split;
   ~Symbolic() { cholmod_free_factor(&L, &common.c); }
 };
 
@@ -110,6 +417,10 @@ struct CholeskyFactor::Workspace::Impl {
   cholmod_sparse* Xset = nullptr;
   Eigen::VectorXf yf, tf;  // single-precision sweep: permuted vector, off-diagonal products
   Eigen::VectorXd yd, td;  // the same in double
+  int threads = 0;         // setThreads
+  std::unique_ptr<tbb::task_arena> arena;
+  SplitScratch<float> splitF;
+  SplitScratch<double> splitD;
   ~Impl() {
     cholmod_free_dense(&X, &common.c);
     cholmod_free_dense(&Y, &common.c);
@@ -225,58 +536,18 @@ void CholeskyFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
   solve(b, x, work);
 }
 
-namespace {
-
-// x = P^T L^{-T} L^{-1} P b over the supernodes of L (CHOLMOD's layout: supernode k holds columns
-// super[k]..super[k+1]-1 as a column-major block of nsrow rows, whose first nscol row indices are
-// those columns), with the values Lx in the working precision of y and t.
-template <typename Scalar>
-void supernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Eigen::VectorXd& b,
-                     Eigen::VectorXd& x, Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& y,
-                     Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& t) {
-  using Block = Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>, 0,
-                           Eigen::OuterStride<>>;
-  const auto n = static_cast<Eigen::Index>(L.n);
-  const auto nsuper = static_cast<int>(L.nsuper);
-  const int* super = static_cast<const int*>(L.super);
-  const int* pi = static_cast<const int*>(L.pi);
-  const int* px = static_cast<const int*>(L.px);
-  const int* rows = static_cast<const int*>(L.s);
-  const int* perm = static_cast<const int*>(L.Perm);
-  y.resize(n);
-  t.resize(static_cast<Eigen::Index>(L.maxesize));
-  for (Eigen::Index i = 0; i < n; ++i) y[i] = static_cast<Scalar>(b[perm[i]]);
-
-  for (int k = 0; k < nsuper; ++k) {  // L y = P b
-    const int first = super[k], nscol = super[k + 1] - first;
-    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
-    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
-    auto yk = y.segment(first, nscol);
-    block.topRows(nscol).template triangularView<Eigen::Lower>().solveInPlace(yk);
-    if (below == 0) continue;
-    auto tk = t.head(below);
-    tk.noalias() = block.bottomRows(below) * yk;
-    const int* r = rows + pi[k] + nscol;
-    for (int i = 0; i < below; ++i) y[r[i]] -= tk[i];
-  }
-  for (int k = nsuper - 1; k >= 0; --k) {  // L^T y = y
-    const int first = super[k], nscol = super[k + 1] - first;
-    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
-    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
-    auto yk = y.segment(first, nscol);
-    if (below > 0) {
-      auto tk = t.head(below);
-      const int* r = rows + pi[k] + nscol;
-      for (int i = 0; i < below; ++i) tk[i] = y[r[i]];
-      yk.noalias() -= block.bottomRows(below).transpose() * tk;
-    }
-    block.topRows(nscol).template triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
-  }
-  x.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = static_cast<double>(y[i]);
+void CholeskyFactor::Workspace::setThreads(int threads) {
+  if (threads < 0) throw std::invalid_argument("CholeskyFactor::Workspace: threads must be >= 0");
+  impl_->threads = threads;
+  impl_->arena = threads > 0 ? std::make_unique<tbb::task_arena>(threads) : nullptr;
 }
 
-}  // namespace
+const SubtreeSplit& CholeskyFactor::subtreeSplit() const {
+  std::call_once(symbolic_->splitMade, [&] {
+    symbolic_->split = std::make_unique<SubtreeSplit>(splitSupernodes(*numeric_->L));
+  });
+  return *symbolic_->split;
+}
 
 void CholeskyFactor::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x,
                                           Workspace& work) const {
@@ -284,7 +555,11 @@ void CholeskyFactor::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::Vecto
   if (b.size() != rows()) throw std::invalid_argument("CholeskyFactor::solve: wrong size of b");
   prepareSinglePrecision();
   Workspace::Impl& w = *work.impl_;
-  supernodalSolve(*numeric_->L, numeric_->single->x.data(), b, x, w.yf, w.tf);
+  const float* Lx = numeric_->single->x.data();
+  if (w.threads > 0)
+    splitSupernodalSolve(*numeric_->L, Lx, subtreeSplit(), *w.arena, b, x, w.yf, w.tf, w.splitF);
+  else
+    supernodalSolve(*numeric_->L, Lx, b, x, w.yf, w.tf);
 }
 
 void CholeskyFactor::prepareSinglePrecision() const {
@@ -302,7 +577,11 @@ void CholeskyFactor::solveSupernodalDouble(const Eigen::VectorXd& b, Eigen::Vect
   if (!isFactorized()) throw std::logic_error("CholeskyFactor::solve before a factorisation");
   if (b.size() != rows()) throw std::invalid_argument("CholeskyFactor::solve: wrong size of b");
   Workspace::Impl& w = *work.impl_;
-  supernodalSolve(*numeric_->L, static_cast<const double*>(numeric_->L->x), b, x, w.yd, w.td);
+  const auto* Lx = static_cast<const double*>(numeric_->L->x);
+  if (w.threads > 0)
+    splitSupernodalSolve(*numeric_->L, Lx, subtreeSplit(), *w.arena, b, x, w.yd, w.td, w.splitD);
+  else
+    supernodalSolve(*numeric_->L, Lx, b, x, w.yd, w.td);
 }
 
 bool CholeskyFactor::isAnalyzed() const { return symbolic_ != nullptr; }

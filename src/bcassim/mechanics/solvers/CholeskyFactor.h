@@ -8,6 +8,8 @@
 
 namespace bcassim {
 
+struct SubtreeSplit;
+
 class CholeskyFactor {
  public:
   // Scratch memory of solve(): CHOLMOD's cholmod_common and dense buffers. Give each thread its
@@ -18,6 +20,11 @@ class CholeskyFactor {
     ~Workspace();
     Workspace(Workspace&&) noexcept;
     Workspace& operator=(Workspace&&) noexcept;
+    // 0 (the default): the supernodal sweeps of solveSinglePrecision and solveSupernodalDouble run
+    // on the calling thread. N >= 1: their elimination tree is cut into 4 fixed groups of subtrees
+    // run on up to N threads (the same bits for every N >= 1, differing from 0's by round-off),
+    // for a solve that has the cores to itself (a model's mean, not sigma points in parallel).
+    void setThreads(int threads);
 
    private:
     friend class CholeskyFactor;
@@ -73,6 +80,7 @@ class CholeskyFactor {
   std::int64_t factorNonZeros() const;
 
  private:
+  const SubtreeSplit& subtreeSplit() const;
   struct Symbolic;
   std::shared_ptr<const Symbolic> symbolic_;
   struct Numeric;
