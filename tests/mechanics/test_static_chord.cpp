@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "FemTestHelpers.h"
+#include "bcassim/mechanics/ChunkedForces.h"
 #include "bcassim/mechanics/InvertedElementError.h"
 #include "bcassim/mechanics/StaticSolver.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
@@ -126,6 +127,82 @@ TEST(StaticChord, AStepThatInvertsAnElementThrows) {
   StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
   Eigen::VectorXd x = model.restPositions();
   EXPECT_THROW(chord.chordSolve(model, 1.0, x, *tangent, 1), InvertedElementError);
+}
+
+// The chord on threads (the analysed mean's, which has the cores to itself): the force assembly
+// in fixed chunks of the tets and the float solves split into subtrees give the same iterates on
+// 1, 2 or 3 threads, and the same equilibrium as the serial kernels.
+TEST(StaticChord, SplitOverThreadsGivesTheSameIteratesOnAnyCount) {
+  const MechanicalModel model = chordCylinder("neohookean");
+  const Eigen::VectorXd before = newtonAt(model, 1.0), exact = newtonAt(model, 1.2);
+  const MechanicalState at{before, Eigen::VectorXd::Zero(before.size()), 1.0};
+  const auto tangent = FrozenTangent::buildStatic(model, at);
+  const double moved = (exact - before).norm();
+  Eigen::VectorXd first;
+  int iterations = 0;
+  for (int threads : {1, 2, 3, 0}) {
+    StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+    Eigen::VectorXd x = before;
+    const StaticReport report = chord.chordSolve(model, 1.2, x, *tangent, 30, true, threads);
+    ASSERT_TRUE(report.converged) << threads;
+    EXPECT_LT((x - exact).norm(), 1e-8 * moved) << threads;
+    if (threads == 1) {
+      first = x;
+      iterations = report.iterations;
+    } else if (threads > 1) {
+      EXPECT_EQ((x - first).cwiseAbs().maxCoeff(), 0.0) << threads;
+      EXPECT_EQ(report.iterations, iterations) << threads;
+    }
+  }
+}
+
+// The chunked assembly is the element loop's sum to round-off, and an inverted tet is reported
+// as the loop reports it: the lowest-numbered one first, with the count of all.
+TEST(ChunkedForces, EqualTheElementLoopAndReportInvertedTetsAlike) {
+  const MechanicalModel model = chordCylinder("neohookean");
+  const Eigen::VectorXd x = newtonAt(model, 2.0);
+  Eigen::VectorXd serial, chunked1;
+  model.internalForces(2.0, x, serial);
+  for (int threads : {1, 2, 3}) {
+    ChunkedForces chunks(threads);
+    Eigen::VectorXd f;
+    model.internalForces(2.0, x, f, chunks);
+    EXPECT_LE((f - serial).norm(), 1e-12 * serial.norm()) << threads;
+    if (threads == 1)
+      chunked1 = f;
+    else
+      EXPECT_EQ((f - chunked1).cwiseAbs().maxCoeff(), 0.0) << threads;
+  }
+  // Two tets far apart in the mesh's order collapsed through their first node's opposite face.
+  Eigen::VectorXd bad = model.restPositions();
+  const TetMesh& mesh = *model.mesh;
+  for (Eigen::Index t : {mesh.numTets() - 3, Eigen::Index(5)}) {
+    const Eigen::Vector4i tet = mesh.T.row(t);
+    const Vec3 centre =
+        (bad.segment<3>(3 * tet(1)) + bad.segment<3>(3 * tet(2)) + bad.segment<3>(3 * tet(3))) /
+        3.0;
+    bad.segment<3>(3 * tet(0)) = 2.0 * centre - bad.segment<3>(3 * tet(0));
+  }
+  Eigen::Index element = -1, count = 0;
+  try {
+    model.internalForces(0.0, bad, serial);
+  } catch (const InvertedElementError& e) {
+    element = e.element();
+    count = e.count();
+  }
+  ASSERT_GE(element, 0);
+  for (int threads : {1, 2}) {
+    ChunkedForces chunks(threads);
+    Eigen::VectorXd f;
+    try {
+      model.internalForces(0.0, bad, f, chunks);
+      ADD_FAILURE() << "no inverted tet reported on " << threads << " threads";
+    } catch (const InvertedElementError& e) {
+      EXPECT_EQ(e.element(), element);
+      EXPECT_EQ(e.count(), count);
+    }
+  }
+  EXPECT_THROW(ChunkedForces(0), std::invalid_argument);
 }
 
 TEST(StaticChord, AnImplicitEulerTangentIsRefused) {

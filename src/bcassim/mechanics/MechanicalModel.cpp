@@ -43,6 +43,14 @@ void MechanicalModel::internalForces(double t, const Eigen::VectorXd& x, Eigen::
   for (const ControlPointSet& c : controls) c.addInternalForces(*mesh, x, t, f);
 }
 
+void MechanicalModel::internalForces(double t, const Eigen::VectorXd& x, Eigen::VectorXd& f,
+                                     ChunkedForces& chunks) const {
+  f.setZero(x.size());
+  elasticity.addInternalForces(x, f, chunks);
+  springs.addInternalForces(*mesh, x, t, f);
+  for (const ControlPointSet& c : controls) c.addInternalForces(*mesh, x, t, f);
+}
+
 void MechanicalModel::internalForcesAndStiffness(double t, const Eigen::VectorXd& x,
                                                  Eigen::VectorXd& f, SparseMatrix& K) const {
   f.setZero(x.size());

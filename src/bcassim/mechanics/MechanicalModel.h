@@ -45,6 +45,9 @@ struct MechanicalModel {
   void externalForces(double t, Eigen::VectorXd& f) const;
   // Internal (conservative) forces f_int = dW/dx at (x, t): elasticity, springs, control points.
   void internalForces(double t, const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
+  // The same with the elastic forces over `chunks` (TetElasticity::addInternalForces).
+  void internalForces(double t, const Eigen::VectorXd& x, Eigen::VectorXd& f,
+                      ChunkedForces& chunks) const;
   // f = f_int(x) and K = stiffness dW2/dx2 (K is reset to the pattern first).
   void internalForcesAndStiffness(double t, const Eigen::VectorXd& x, Eigen::VectorXd& f,
                                   SparseMatrix& K) const;

@@ -184,9 +184,14 @@ void StaticSolver::newton(Increments& run, double lambda) {
 
 StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Eigen::VectorXd& x,
                                       const FrozenTangent& tangent, int maxIterations,
-                                      bool singlePrecision) {
+                                      bool singlePrecision, int threads) {
   if (!tangent.isStatic())
     throw std::invalid_argument("StaticSolver::chordSolve: needs a static tangent (K, not W)");
+  if (threads != chordThreads_) {
+    chordWork_.setThreads(threads);
+    chordChunks_ = threads > 0 ? std::make_unique<ChunkedForces>(threads) : nullptr;
+    chordThreads_ = threads;
+  }
   const DirichletConditions& bc = model.dirichlet;
   const auto& fixed = bc.constrainedDofs();
   StaticReport report;
@@ -196,7 +201,10 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
   // The residual f_ext - f_int at y (constrained entries zero) into chordRhs_, the prescribed
   // motion still to make into chordKnown_; its norm.
   const auto residualAt = [&](const Eigen::VectorXd& y) {
-    model.internalForces(t, y, chordFint_);
+    if (chordChunks_)
+      model.internalForces(t, y, chordFint_, *chordChunks_);
+    else
+      model.internalForces(t, y, chordFint_);
     chordRhs_ = chordFext_ - chordFint_;
     bc.zeroConstrained(chordRhs_);
     chordKnown_.resize(static_cast<Eigen::Index>(fixed.size()));

@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 
+#include "bcassim/mechanics/ChunkedForces.h"
 #include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/mechanics/MechanicalModel.h"
 #include "bcassim/mechanics/StepFailure.h"
@@ -59,9 +60,12 @@ class StaticSolver {
   // or after the last of maxIterations steps; the caller falls back to solve() from its start.
   // singlePrecision: each step solves with the factor rounded to float (FrozenTangent::solve);
   // the iterations converge to the same equilibrium, the residual being computed in double.
+  // threads >= 1: the force assemblies and the single-precision solves are split over that many
+  // threads (ChunkedForces, CholeskyFactor::Workspace::setThreads), with the same iterates for
+  // any count; 0: the serial kernels on this thread.
   StaticReport chordSolve(const MechanicalModel& model, double t, Eigen::VectorXd& x,
                           const FrozenTangent& tangent, int maxIterations,
-                          bool singlePrecision = false);
+                          bool singlePrecision = false, int threads = 0);
   // The solver of the Newton systems (to share a factorisation between workers).
   LinearSolver& linearSolver() { return *solver_; }
 
@@ -77,6 +81,8 @@ class StaticSolver {
   Eigen::VectorXd equilibriumLoad_;  // f_ext the last solve ended at (N); empty before the first
   Eigen::VectorXd chordFext_, chordFint_, chordRhs_, chordDx_, chordKnown_, chordTrial_, chordG_;
   CholeskyFactor::Workspace chordWork_;
+  int chordThreads_ = 0;
+  std::unique_ptr<ChunkedForces> chordChunks_;  // threads >= 1
 };
 
 }  // namespace bcassim

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 
 #include "bcassim/Error.h"
 #include "bcassim/mechanics/ElementKernels.h"
@@ -203,6 +204,38 @@ void TetElasticity::addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd&
       for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet(a)) += H.col(a);
     }
   });
+  inverted_ = inverted.count;
+  inverted.throwIfAny();
+}
+
+void TetElasticity::addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd& f,
+                                      ChunkedForces& chunks) const {
+  if (patches_) return addInternalForces(x, f);
+  InvertedTets inverted;
+  chunks.begin(f.size());
+  forEachRegion([&](const auto& material, const std::vector<int>& tets) {
+    using Law = std::decay_t<decltype(material)>;
+    std::array<InvertedTets, ChunkedForces::kChunks> found;
+    chunks.forEachChunk(static_cast<Eigen::Index>(tets.size()),
+                        [&](int c, Eigen::Index first, Eigen::Index last, Eigen::VectorXd& out) {
+                          for (Eigen::Index i = first; i < last; ++i) {
+                            const int t = tets[static_cast<size_t>(i)];
+                            const Eigen::Vector4i tet = T_.row(t);
+                            const Mat3 F = deformationGradient(x, tet, gradN_[t]);
+                            found[static_cast<size_t>(c)].template check<Law>(t, F);
+                            const Eigen::Matrix<double, 3, 4> H =
+                                volume_[t] * material.pk1(F) * gradN_[t].transpose();
+                            for (int a = 0; a < 4; ++a) out.segment<3>(3 * tet(a)) += H.col(a);
+                          }
+                        });
+    for (const InvertedTets& chunk : found)  // in element order, as the loop above counts them
+      if (chunk.count > 0) {
+        const Eigen::Index before = inverted.count;
+        inverted.add(chunk.first, chunk.detF);
+        inverted.count = before + chunk.count;
+      }
+  });
+  chunks.addTo(f);
   inverted_ = inverted.count;
   inverted.throwIfAny();
 }

@@ -7,6 +7,7 @@
 
 #include "bcassim/Types.h"
 #include "bcassim/mechanics/AssemblyPattern.h"
+#include "bcassim/mechanics/ChunkedForces.h"
 #include "bcassim/mechanics/InvertedElementError.h"
 #include "bcassim/mechanics/MeanDilatationPatches.h"
 #include "bcassim/mechanics/materials/Material.h"
@@ -34,6 +35,9 @@ class TetElasticity {
   // (every law but the linear one, see HyperelasticMaterial.h: no such state is taken as a
   // result). Linear tets are evaluated wherever they go.
   void addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
+  // The same over the fixed chunks of `chunks` (on its threads; the same bits for any number of
+  // them, differing from the loop above by round-off). Mean-dilatation patches stay on this thread.
+  void addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd& f, ChunkedForces& chunks) const;
   // Adds f_int to f and scale * K(x) into K (K must have `pattern`'s structure). Throws
   // InvertedElementError as addInternalForces.
   void addForcesAndStiffness(const Eigen::VectorXd& x, const AssemblyPattern& pattern, double scale,
