@@ -114,12 +114,14 @@ void BM_Factorize(benchmark::State& st) {
   st.counters["nnz_L"] = static_cast<double>(factor.factorNonZeros());
 }
 
-void BM_Solve(benchmark::State& st, bool single) {
+// threads 0: one sweep on this thread; N >= 1: the elimination tree's subtrees on N threads.
+void BM_Solve(benchmark::State& st, bool single, int threads) {
   const StaticFrame& f = staticFrame();
   const SparseMatrix K = eliminatedStiffness(f);
   CholeskyFactor factor;
   factor.factorize(K);
   CholeskyFactor::Workspace work;
+  work.setThreads(threads);
   Eigen::VectorXd b = Eigen::VectorXd::Ones(K.rows()), y;
   for (auto _ : st) {
     if (single)
@@ -136,7 +138,8 @@ void BM_Solve(benchmark::State& st, bool single) {
 // tangent of the first: one linearised step (maxIterations 1, double precision: what a sigma point
 // costs with tangent: mean), or the mean's equilibrium by chord iterations (Anderson-mixed, single
 // precision, to the 1e-8 tolerance of the registration: what a frame's end costs).
-void BM_Chord(benchmark::State& st, int maxIterations, bool singlePrecision) {
+// threads: as StaticSolver::chordSolve's (0: serial kernels; N: split over N threads).
+void BM_Chord(benchmark::State& st, int maxIterations, bool singlePrecision, int threads) {
   const StaticFrame& f = staticFrame();
   bcassim::Scene scene = f.scene;
   const MechanicalState at{f.x, Eigen::VectorXd::Zero(f.x.size()), 1.0};
@@ -147,7 +150,8 @@ void BM_Chord(benchmark::State& st, int maxIterations, bool singlePrecision) {
   StaticReport report;
   for (auto _ : st) {
     x = f.x;
-    report = chord.chordSolve(scene.model, 1.0, x, *tangent, maxIterations, singlePrecision);
+    report =
+        chord.chordSolve(scene.model, 1.0, x, *tangent, maxIterations, singlePrecision, threads);
     benchmark::DoNotOptimize(x.data());
   }
   counters(st, f);
@@ -161,10 +165,20 @@ void registerAll() {
   benchmark::RegisterBenchmark("static_frame/force_stiffness_assembly", BM_StiffnessAssembly)
       ->Unit(kMillisecond);
   benchmark::RegisterBenchmark("static_frame/factorize", BM_Factorize)->Unit(kMillisecond);
-  benchmark::RegisterBenchmark("static_frame/solve_double", BM_Solve, false)->Unit(kMillisecond);
-  benchmark::RegisterBenchmark("static_frame/solve_single", BM_Solve, true)->Unit(kMillisecond);
-  benchmark::RegisterBenchmark("static_frame/chord_step", BM_Chord, 1, false)->Unit(kMillisecond);
-  benchmark::RegisterBenchmark("static_frame/chord_solve", BM_Chord, 30, true)->Unit(kMillisecond);
+  benchmark::RegisterBenchmark("static_frame/solve_double", BM_Solve, false, 0)->Unit(kMillisecond);
+  benchmark::RegisterBenchmark("static_frame/solve_single", BM_Solve, true, 0)->Unit(kMillisecond);
+  benchmark::RegisterBenchmark("static_frame/solve_single_split_1_thread", BM_Solve, true, 1)
+      ->Unit(kMillisecond);
+  benchmark::RegisterBenchmark("static_frame/solve_single_split_2_threads", BM_Solve, true, 2)
+      ->Unit(kMillisecond);
+  benchmark::RegisterBenchmark("static_frame/chord_step", BM_Chord, 1, false, 0)
+      ->Unit(kMillisecond);
+  benchmark::RegisterBenchmark("static_frame/chord_solve", BM_Chord, 30, true, 0)
+      ->Unit(kMillisecond);
+  benchmark::RegisterBenchmark("static_frame/chord_solve_split_1_thread", BM_Chord, 30, true, 1)
+      ->Unit(kMillisecond);
+  benchmark::RegisterBenchmark("static_frame/chord_solve_split_2_threads", BM_Chord, 30, true, 2)
+      ->Unit(kMillisecond);
 }
 
 }  // namespace

@@ -235,8 +235,8 @@ bool MechanicalForecastModel::chordMean(double t) {
   bool converged = false;
   for (int attempt = 0; attempt < 2 && !converged; ++attempt) {
     try {
-      const StaticReport report =
-          statics_->chordSolve(model_, t, x, *shared_->tangent, kChordIterations, true);
+      const StaticReport report = statics_->chordSolve(
+          model_, t, x, *shared_->tangent, kChordIterations, true, options_.meanThreads);
       stats_.linearIterations += report.iterations;
       converged = report.converged;
       if (converged || attempt == 1 || !(report.residualNorm < report.initialResidualNorm)) break;

@@ -83,6 +83,10 @@ struct ForecastModelOptions {
   // reached by chord iterations with it (Newton where they do not converge); the tangent is
   // rebuilt there every tangentRefreshEvery frames.
   std::optional<StaticOptions> statics;
+  // Static frames with meanTangent: the analysed mean's chord iterations split their force
+  // assemblies and solves over this many threads (the workers are idle then), with the same
+  // result for any count >= 1; 0 keeps them on worker 0's thread with the serial kernels.
+  int meanThreads = 0;
   // The observable is every node's position (3 x nodes, for an observation operator that needs
   // the surface: a point cloud) instead of the markers' positions.
   bool observeNodes = false;

@@ -266,6 +266,9 @@ ForecastModelOptions forecastOptions(const Scene& scene) {
   options.tangentRefreshEvery = s.tangentRefreshEvery;
   options.tangentInBackground = s.tangentInBackground;
   if (scene.integrator == IntegratorKind::Static) options.statics = scene.statics;
+  // The mean's equilibrium is solved while the workers wait: it takes all of them (and gives the
+  // same bits for any number, so that runs on other thread counts or MPI ranks agree).
+  options.meanThreads = s.threads;
   options.observeNodes = s.observations.pointCloud.has_value();
   return options;
 }
