@@ -102,78 +102,81 @@ struct Supernodes {
         px(static_cast<const int*>(L.px)),
         rows(static_cast<const int*>(L.s)) {}
 
-  // y_k = L_kk^-1 y_k; then `update(row, value)` for each row below: y[row] -= value.
-  template <class Update>
-  void forward(int k, Vector& y, Vector& t, Update&& update) const {
+  // Supernode k: its columns first..first+nscol-1, its block (diagonal block on top of `below`
+  // rows), and the row indices of those.
+  struct Panel {
+    int first, nscol, below;
+    Block block;
+    const int* rows;
+    auto lower() const { return block.bottomRows(below); }
+  };
+  Panel panel(int k) const {
     const int first = super[k], nscol = super[k + 1] - first;
-    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
-    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
-    auto yk = y.segment(first, nscol);
-    block.topRows(nscol).template triangularView<Eigen::Lower>().solveInPlace(yk);
-    if (below == 0) return;
-    auto tk = t.head(below);
-    tk.noalias() = block.bottomRows(below) * yk;
-    const int* r = rows + pi[k] + nscol;
-    for (int i = 0; i < below; ++i) update(r[i], tk[i]);
+    const int nsrow = pi[k + 1] - pi[k];
+    return {first, nscol, nsrow - nscol,
+            Block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow)), rows + pi[k] + nscol};
   }
 
-  // y_k = L_kk^-T (y_k - L_bk^T y_b), b the rows below (solved before: they are ancestors).
-  void backward(int k, Vector& y, Vector& t) const {
-    const int first = super[k], nscol = super[k + 1] - first;
-    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
-    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
-    auto yk = y.segment(first, nscol);
-    if (below > 0) {
-      auto tk = t.head(below);
-      const int* r = rows + pi[k] + nscol;
-      for (int i = 0; i < below; ++i) tk[i] = y[r[i]];
-      yk.noalias() -= block.bottomRows(below).transpose() * tk;
+  // y_k = L_kk^-1 y_k, t = L_bk y_k by product(L_bk, y_k, t), then update(row, t_i) for each row
+  // below (y[row] -= t_i where this sweep owns the row).
+  template <class Product, class Update>
+  void forward(int k, Vector& y, Vector& t, Product&& product, Update&& update) const {
+    const Panel p = panel(k);
+    auto yk = y.segment(p.first, p.nscol);
+    p.block.topRows(p.nscol).template triangularView<Eigen::Lower>().solveInPlace(yk);
+    if (p.below == 0) return;
+    product(p.lower(), yk, t.head(p.below));
+    for (int i = 0; i < p.below; ++i) update(p.rows[i], t[i]);
+  }
+
+  // y_k = L_kk^-T (y_k - L_bk^T y_b), b the rows below (solved before: they are ancestors), the
+  // product by product(L_bk, y_b, y_k).
+  template <class Product>
+  void backward(int k, Vector& y, Vector& t, Product&& product) const {
+    const Panel p = panel(k);
+    auto yk = y.segment(p.first, p.nscol);
+    if (p.below > 0) {
+      for (int i = 0; i < p.below; ++i) t[i] = y[p.rows[i]];
+      product(p.lower(), t.head(p.below), yk);
     }
-    block.topRows(nscol).template triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
+    p.block.topRows(p.nscol).template triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
   }
 
-  // The product of a large supernode cut into kProductChunks pieces for `each(piece)` to run,
-  // concurrently or not: forward and backward with the same arithmetic either way.
+  // The products whole, or cut into kProductChunks pieces for each(piece) to run, concurrently or
+  // not (the same arithmetic either way): rows of t = L_bk y_k, columns of y_k -= L_bk^T y_b.
   static constexpr int kProductChunks = 4;
   static constexpr long kChunkedEntries = 1L << 16;
   bool chunked(int k) const {
     const long nscol = super[k + 1] - super[k], below = pi[k + 1] - pi[k] - nscol;
     return below * nscol >= kChunkedEntries;
   }
-  static std::pair<int, int> piece(int c, int size) {
-    const int lo = static_cast<int>(static_cast<long>(size) * c / kProductChunks);
-    return {lo, static_cast<int>(static_cast<long>(size) * (c + 1) / kProductChunks) - lo};
+  static std::pair<int, int> piece(int c, Eigen::Index size) {
+    const auto lo = static_cast<int>(size * c / kProductChunks);
+    return {lo, static_cast<int>(size * (c + 1) / kProductChunks) - lo};
   }
-
+  static constexpr auto wholeForward = [](const auto& lower, const auto& yk, auto tk) {
+    tk.noalias() = lower * yk;
+  };
+  static constexpr auto wholeBackward = [](const auto& lower, const auto& tk, auto yk) {
+    yk.noalias() -= lower.transpose() * tk;
+  };
   template <class Each>
-  void forwardChunked(int k, Vector& y, Vector& t, Each&& each) const {
-    const int first = super[k], nscol = super[k + 1] - first;
-    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
-    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
-    auto yk = y.segment(first, nscol);
-    block.topRows(nscol).template triangularView<Eigen::Lower>().solveInPlace(yk);
-    each([&](int c) {  // rows of the product
-      const auto [lo, len] = piece(c, below);
-      t.segment(lo, len).noalias() = block.middleRows(nscol + lo, len) * yk;
-    });
-    const int* r = rows + pi[k] + nscol;
-    for (int i = 0; i < below; ++i) y[r[i]] -= t[i];
+  static auto piecewiseForward(Each& each) {
+    return [&each](const auto& lower, const auto& yk, auto tk) {
+      each([&](int c) {
+        const auto [lo, len] = piece(c, lower.rows());
+        tk.segment(lo, len).noalias() = lower.middleRows(lo, len) * yk;
+      });
+    };
   }
-
   template <class Each>
-  void backwardChunked(int k, Vector& y, Vector& t, Each&& each) const {
-    const int first = super[k], nscol = super[k + 1] - first;
-    const int nsrow = pi[k + 1] - pi[k], below = nsrow - nscol;
-    const Block block(Lx + px[k], nsrow, nscol, Eigen::OuterStride<>(nsrow));
-    auto yk = y.segment(first, nscol);
-    auto tk = t.head(below);
-    const int* r = rows + pi[k] + nscol;
-    for (int i = 0; i < below; ++i) tk[i] = y[r[i]];
-    each([&](int c) {  // columns of the product
-      const auto [lo, len] = piece(c, nscol);
-      yk.segment(lo, len).noalias() -= block.bottomRows(below).middleCols(lo, len).transpose() * tk;
-    });
-    block.topRows(nscol).template triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
+  static auto piecewiseBackward(Each& each) {
+    return [&each](const auto& lower, const auto& tk, auto yk) {
+      each([&](int c) {
+        const auto [lo, len] = piece(c, lower.cols());
+        yk.segment(lo, len).noalias() -= lower.middleCols(lo, len).transpose() * tk;
+      });
+    };
   }
 };
 
@@ -189,8 +192,9 @@ void supernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Eigen::Vec
   y.resize(n);
   t.resize(static_cast<Eigen::Index>(L.maxesize));
   for (Eigen::Index i = 0; i < n; ++i) y[i] = static_cast<Scalar>(b[perm[i]]);
-  for (int k = 0; k < nsuper; ++k) sn.forward(k, y, t, [&](int r, Scalar v) { y[r] -= v; });
-  for (int k = nsuper - 1; k >= 0; --k) sn.backward(k, y, t);
+  const auto own = [&](int r, Scalar v) { y[r] -= v; };
+  for (int k = 0; k < nsuper; ++k) sn.forward(k, y, t, sn.wholeForward, own);
+  for (int k = nsuper - 1; k >= 0; --k) sn.backward(k, y, t, sn.wholeBackward);
   x.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = static_cast<double>(y[i]);
 }
@@ -321,21 +325,26 @@ void splitSupernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Subtr
   }
   for (Eigen::Index i = 0; i < n; ++i) y[i] = static_cast<Scalar>(b[perm[i]]);
   const int* slot = split.slot.data();
-  const auto eachGroup = [&](auto&& sweep) {
+  // work(0) .. work(count - 1) on the arena's threads.
+  const auto concurrently = [&](int count, auto&& work) {
     arena.execute([&] {
       tbb::parallel_for(
-          tbb::blocked_range<int>(0, kSplitGroups, 1),
+          tbb::blocked_range<int>(0, count, 1),
           [&](const tbb::blocked_range<int>& range) {
-            for (int g = range.begin(); g < range.end(); ++g) sweep(g);
+            for (int c = range.begin(); c < range.end(); ++c) work(c);
           },
           tbb::simple_partitioner());
     });
   };
-  eachGroup([&](int g) {
+  const auto eachPiece = [&](auto&& work) {
+    concurrently(Supernodes<Scalar>::kProductChunks, work);
+  };
+  const auto own = [&](int r, Scalar v) { y[r] -= v; };
+  concurrently(kSplitGroups, [&](int g) {
     auto& tg = scratch.t[static_cast<size_t>(g)];
     auto& delta = scratch.delta[static_cast<size_t>(g)];
     for (int k : split.groups[static_cast<size_t>(g)])
-      sn.forward(k, y, tg, [&](int r, Scalar v) {
+      sn.forward(k, y, tg, sn.wholeForward, [&](int r, Scalar v) {
         if (const int s = slot[r]; s >= 0)
           delta[s] += v;
         else
@@ -345,32 +354,22 @@ void splitSupernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Subtr
   for (int g = 0; g < kSplitGroups; ++g)
     for (Eigen::Index s = 0; s < topSize; ++s)
       y[split.topRows[static_cast<size_t>(s)]] -= scratch.delta[static_cast<size_t>(g)][s];
-  const auto eachPiece = [&](auto&& work) {
-    arena.execute([&] {
-      tbb::parallel_for(
-          tbb::blocked_range<int>(0, Supernodes<Scalar>::kProductChunks, 1),
-          [&](const tbb::blocked_range<int>& range) {
-            for (int c = range.begin(); c < range.end(); ++c) work(c);
-          },
-          tbb::simple_partitioner());
-    });
-  };
   for (int k : split.top) {
     if (sn.chunked(k))
-      sn.forwardChunked(k, y, t, eachPiece);
+      sn.forward(k, y, t, sn.piecewiseForward(eachPiece), own);
     else
-      sn.forward(k, y, t, [&](int r, Scalar v) { y[r] -= v; });
+      sn.forward(k, y, t, sn.wholeForward, own);
   }
   for (auto k = split.top.rbegin(); k != split.top.rend(); ++k) {
     if (sn.chunked(*k))
-      sn.backwardChunked(*k, y, t, eachPiece);
+      sn.backward(*k, y, t, sn.piecewiseBackward(eachPiece));
     else
-      sn.backward(*k, y, t);
+      sn.backward(*k, y, t, sn.wholeBackward);
   }
-  eachGroup([&](int g) {
+  concurrently(kSplitGroups, [&](int g) {
     auto& tg = scratch.t[static_cast<size_t>(g)];
     const std::vector<int>& group = split.groups[static_cast<size_t>(g)];
-    for (auto k = group.rbegin(); k != group.rend(); ++k) sn.backward(*k, y, tg);
+    for (auto k = group.rbegin(); k != group.rend(); ++k) sn.backward(*k, y, tg, sn.wholeBackward);
   });
   x.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = static_cast<double>(y[i]);
