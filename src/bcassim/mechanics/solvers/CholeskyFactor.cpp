@@ -218,7 +218,7 @@ namespace {
 
 // Splits the tree greedily: the heaviest subtree (by factor entries, the sweeps' work) gives its
 // root to the top and its children to the candidates, until the heaviest is within 10 % of an
-// equal share or the top holds a third of the work; the subtrees then go to the lightest group,
+// equal share or the top holds 32 supernodes; the subtrees then go to the lightest group,
 // heaviest first.
 SubtreeSplit splitSupernodes(const cholmod_factor& L) {
   const auto nsuper = static_cast<int>(L.nsuper);
@@ -239,8 +239,9 @@ SubtreeSplit splitSupernodes(const cholmod_factor& L) {
     subtree[kk] += weight[kk];  // children (lower numbers) have added theirs
     total += weight[kk];
     if (nsrow > nscol) {
-      // The first row below the diagonal block is the parent's: ancestors have higher columns.
-      parent[kk] = superOf[static_cast<size_t>(rows[pi[k] + nscol])];
+      // The lowest row below the diagonal block is in the parent: ancestors have higher columns.
+      const int lowest = *std::min_element(rows + pi[k] + nscol, rows + pi[k + 1]);
+      parent[kk] = superOf[static_cast<size_t>(lowest)];
       subtree[static_cast<size_t>(parent[kk])] += subtree[kk];
       children[static_cast<size_t>(parent[kk])].push_back(k);
     } else {
