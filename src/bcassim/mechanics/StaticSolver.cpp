@@ -187,11 +187,13 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
                                       bool singlePrecision, int threads) {
   if (!tangent.isStatic())
     throw std::invalid_argument("StaticSolver::chordSolve: needs a static tangent (K, not W)");
-  if (threads != chordThreads_) {
-    chordWork_.setThreads(threads);
-    chordChunks_ = threads > 0 ? std::make_unique<ChunkedForces>(threads) : nullptr;
-    chordThreads_ = threads;
+  // The split kernels' threads are kept between calls: a model's sigma point (serial) and its
+  // mean (split) alternate every frame.
+  if (threads > 0 && (!chordChunks_ || chordChunks_->threads() != threads)) {
+    chordSplitWork_.setThreads(threads);
+    chordChunks_ = std::make_unique<ChunkedForces>(threads);
   }
+  CholeskyFactor::Workspace& work = threads > 0 ? chordSplitWork_ : chordWork_;
   const DirichletConditions& bc = model.dirichlet;
   const auto& fixed = bc.constrainedDofs();
   StaticReport report;
@@ -201,7 +203,7 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
   // The residual f_ext - f_int at y (constrained entries zero) into chordRhs_, the prescribed
   // motion still to make into chordKnown_; its norm.
   const auto residualAt = [&](const Eigen::VectorXd& y) {
-    if (chordChunks_)
+    if (threads > 0)
       model.internalForces(t, y, chordFint_, *chordChunks_);
     else
       model.internalForces(t, y, chordFint_);
@@ -250,7 +252,7 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
       }
       bc.eliminateRightHandSide(tangent.systemMatrix(), chordRhs_, chordKnown_);
     }
-    tangent.solve(model, D, chordRhs_, chordDx_, chordWork_, singlePrecision);
+    tangent.solve(model, D, chordRhs_, chordDx_, work, singlePrecision);
     if (report.iterations == maxIterations) {
       // The last step's residual is not evaluated: a linearised step needs none, and a solve
       // that needed all of its steps is finished by Newton anyway.

@@ -80,9 +80,9 @@ class StaticSolver {
   SparseMatrix K_;
   Eigen::VectorXd equilibriumLoad_;  // f_ext the last solve ended at (N); empty before the first
   Eigen::VectorXd chordFext_, chordFint_, chordRhs_, chordDx_, chordKnown_, chordTrial_, chordG_;
-  CholeskyFactor::Workspace chordWork_;
-  int chordThreads_ = 0;
-  std::unique_ptr<ChunkedForces> chordChunks_;  // threads >= 1
+  CholeskyFactor::Workspace chordWork_;       // threads 0
+  CholeskyFactor::Workspace chordSplitWork_;  // threads >= 1, with chordChunks_
+  std::unique_ptr<ChunkedForces> chordChunks_;
 };
 
 }  // namespace bcassim
