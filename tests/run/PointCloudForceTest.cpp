@@ -4,6 +4,7 @@
 // from a zero force.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -118,6 +119,39 @@ TEST(PointCloudForce, StaticFramesRecoverAKnownToolForceFromAPartialCloud) {
     EXPECT_EQ(r.observedSteps, kSteps) << name;
     EXPECT_TRUE(r.notices.empty()) << name << ": " << r.notices.front();
   }
+}
+
+// With tangent: mean the analysed mean's chord runs on every worker's thread (its force assembly
+// and solves split in fixed chunks): 1, 2 and 3 threads give the same estimates bit for bit.
+TEST(PointCloudForce, TheMeansChordGivesTheSameEstimatesOnAnyThreadCount) {
+  const fs::path dir = test::freshDir();
+  constexpr int kSteps = 3;
+  writeTruthCloud(dir, kSteps);
+  for (int k = 1; k <= kSteps; ++k)
+    fs::copy_file(dir / "cloud.txt", dir / ("pc" + std::to_string(k) + ".txt"));
+  std::vector<AssimilationResult> results;
+  for (int threads : {1, 2, 3}) {
+    const Scene scene = loadSceneFromString(
+        staticCylinder("[0, 0, 0]", kSteps,
+                       "assimilation:\n  filter: roukf\n  tangent: mean\n  threads: " +
+                           std::to_string(threads) +
+                           "\n"
+                           "  parameters:\n"
+                           "    - {force: {load: 0, component: x}, mean: 0, stddev: 0.05}\n"
+                           "    - {force: {load: 0, component: y}, mean: 0, stddev: 0.05}\n"
+                           "    - {force: {load: 0, component: z}, mean: 0, stddev: 0.05}\n"
+                           "  observations:\n"
+                           "    point_cloud: {files: \"pc*.txt\"}\n"
+                           "    sigma: 1.0e-5\n"),
+        "estimation.yaml", dir.string());
+    results.push_back(runAssimilation(scene, (dir / std::to_string(threads)).string()));
+  }
+  for (size_t t = 1; t < results.size(); ++t)
+    for (size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(results[t].parameters[i].mean, results[0].parameters[i].mean) << t + 1;
+      EXPECT_EQ(results[t].parameters[i].stddev, results[0].parameters[i].stddev) << t + 1;
+    }
+  EXPECT_LE(std::abs(results[0].parameters[1].mean + 0.04), 0.004);  // N: the force's y
 }
 
 // One frame, from a zero force: the closest points found on the rest surface are stale once the
