@@ -1,12 +1,11 @@
 #include "bcassim/mechanics/ChunkedForces.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 #include <array>
 #include <stdexcept>
+
+#include "bcassim/mechanics/ArenaLoop.h"
 
 namespace bcassim {
 
@@ -36,18 +35,7 @@ void ChunkedForces::forEachChunk(
   const auto run = [&](int c) {
     work(c, count * c / kChunks, count * (c + 1) / kChunks, impl_->buffers[static_cast<size_t>(c)]);
   };
-  if (impl_->threads == 1) {
-    for (int c = 0; c < kChunks; ++c) run(c);
-    return;
-  }
-  impl_->arena.execute([&] {
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, kChunks, 1),
-        [&](const tbb::blocked_range<int>& range) {
-          for (int c = range.begin(); c < range.end(); ++c) run(c);
-        },
-        tbb::simple_partitioner());
-  });
+  forEachOnArena(impl_->arena, kChunks, run);
 }
 
 void ChunkedForces::addTo(Eigen::VectorXd& f) const {

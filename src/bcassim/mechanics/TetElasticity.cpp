@@ -73,10 +73,37 @@ struct InvertedTets {
     if constexpr (!M::acceptsInverted)
       if (const double J = F.determinant(); J <= 0) add(t, J);
   }
+  // Those of a later part of the same loop (the first of this stays first).
+  void merge(const InvertedTets& later) {
+    if (later.count == 0) return;
+    if (count == 0) {
+      first = later.first;
+      detF = later.detF;
+    }
+    count += later.count;
+  }
   void throwIfAny() const {
     if (count > 0) throw InvertedElementError(first, detF, count);
   }
 };
+
+// Adds the internal forces of tets [first, last) of `tets` (all of law `material`) at x to f,
+// counting the inverted ones.
+template <class Law>
+void addTetForces(const Law& material, const std::vector<int>& tets, Eigen::Index first,
+                  Eigen::Index last, const Eigen::MatrixX4i& T,
+                  const std::vector<Eigen::Matrix<double, 4, 3>>& gradN,
+                  const std::vector<double>& volume, const Eigen::VectorXd& x, Eigen::VectorXd& f,
+                  InvertedTets& inverted) {
+  for (Eigen::Index i = first; i < last; ++i) {
+    const int t = tets[static_cast<size_t>(i)];
+    const Eigen::Vector4i tet = T.row(t);
+    const Mat3 F = deformationGradient(x, tet, gradN[t]);
+    inverted.check<Law>(t, F);
+    const Eigen::Matrix<double, 3, 4> H = volume[t] * material.pk1(F) * gradN[t].transpose();
+    for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet(a)) += H.col(a);
+  }
+}
 
 }  // namespace
 
@@ -196,13 +223,8 @@ void TetElasticity::addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd&
   if (patches_) return addPatchForcesAndStiffness(x, nullptr, 1.0, f, nullptr);
   InvertedTets inverted;
   forEachRegion([&](const auto& material, const std::vector<int>& tets) {
-    for (int t : tets) {
-      const Eigen::Vector4i tet = T_.row(t);
-      const Mat3 F = deformationGradient(x, tet, gradN_[t]);
-      inverted.check<std::decay_t<decltype(material)>>(t, F);
-      const Eigen::Matrix<double, 3, 4> H = volume_[t] * material.pk1(F) * gradN_[t].transpose();
-      for (int a = 0; a < 4; ++a) f.segment<3>(3 * tet(a)) += H.col(a);
-    }
+    addTetForces(material, tets, 0, static_cast<Eigen::Index>(tets.size()), T_, gradN_, volume_, x,
+                 f, inverted);
   });
   inverted_ = inverted.count;
   inverted.throwIfAny();
@@ -214,26 +236,13 @@ void TetElasticity::addInternalForces(const Eigen::VectorXd& x, Eigen::VectorXd&
   InvertedTets inverted;
   chunks.begin(f.size());
   forEachRegion([&](const auto& material, const std::vector<int>& tets) {
-    using Law = std::decay_t<decltype(material)>;
     std::array<InvertedTets, ChunkedForces::kChunks> found;
     chunks.forEachChunk(static_cast<Eigen::Index>(tets.size()),
                         [&](int c, Eigen::Index first, Eigen::Index last, Eigen::VectorXd& out) {
-                          for (Eigen::Index i = first; i < last; ++i) {
-                            const int t = tets[static_cast<size_t>(i)];
-                            const Eigen::Vector4i tet = T_.row(t);
-                            const Mat3 F = deformationGradient(x, tet, gradN_[t]);
-                            found[static_cast<size_t>(c)].template check<Law>(t, F);
-                            const Eigen::Matrix<double, 3, 4> H =
-                                volume_[t] * material.pk1(F) * gradN_[t].transpose();
-                            for (int a = 0; a < 4; ++a) out.segment<3>(3 * tet(a)) += H.col(a);
-                          }
+                          addTetForces(material, tets, first, last, T_, gradN_, volume_, x, out,
+                                       found[static_cast<size_t>(c)]);
                         });
-    for (const InvertedTets& chunk : found)  // in element order, as the loop above counts them
-      if (chunk.count > 0) {
-        const Eigen::Index before = inverted.count;
-        inverted.add(chunk.first, chunk.detF);
-        inverted.count = before + chunk.count;
-      }
+    for (const InvertedTets& chunk : found) inverted.merge(chunk);  // in element order
   });
   chunks.addTo(f);
   inverted_ = inverted.count;

@@ -3,9 +3,6 @@
 #include <cholmod.h>
 #include <dlfcn.h>
 #include <omp.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -17,6 +14,7 @@
 #include <vector>
 
 #include "bcassim/Error.h"
+#include "bcassim/mechanics/ArenaLoop.h"
 
 namespace bcassim {
 namespace {
@@ -326,22 +324,11 @@ void splitSupernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Subtr
   }
   for (Eigen::Index i = 0; i < n; ++i) y[i] = static_cast<Scalar>(b[perm[i]]);
   const int* slot = split.slot.data();
-  // work(0) .. work(count - 1) on the arena's threads.
-  const auto concurrently = [&](int count, auto&& work) {
-    arena.execute([&] {
-      tbb::parallel_for(
-          tbb::blocked_range<int>(0, count, 1),
-          [&](const tbb::blocked_range<int>& range) {
-            for (int c = range.begin(); c < range.end(); ++c) work(c);
-          },
-          tbb::simple_partitioner());
-    });
-  };
   const auto eachPiece = [&](auto&& work) {
-    concurrently(Supernodes<Scalar>::kProductChunks, work);
+    forEachOnArena(arena, Supernodes<Scalar>::kProductChunks, work);
   };
   const auto own = [&](int r, Scalar v) { y[r] -= v; };
-  concurrently(kSplitGroups, [&](int g) {
+  forEachOnArena(arena, kSplitGroups, [&](int g) {
     auto& tg = scratch.t[static_cast<size_t>(g)];
     auto& delta = scratch.delta[static_cast<size_t>(g)];
     for (int k : split.groups[static_cast<size_t>(g)])
@@ -367,7 +354,7 @@ void splitSupernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Subtr
     else
       sn.backward(*k, y, t, sn.wholeBackward);
   }
-  concurrently(kSplitGroups, [&](int g) {
+  forEachOnArena(arena, kSplitGroups, [&](int g) {
     auto& tg = scratch.t[static_cast<size_t>(g)];
     const std::vector<int>& group = split.groups[static_cast<size_t>(g)];
     for (auto k = group.rbegin(); k != group.rend(); ++k) sn.backward(*k, y, tg, sn.wholeBackward);
