@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <ostream>
 #include <set>
 #include <string>
 #include <vector>
@@ -141,6 +142,9 @@ const BadInput kCatalogue[] = {
 std::filesystem::path badDir() {
   return std::filesystem::path(BCASSIM_SOURCE_DIR) / "tests" / "data" / "bad";
 }
+
+// ctest names a case by its file, never by the struct's bytes (pointers, new every build).
+void PrintTo(const BadInput& bad, std::ostream* out) { *out << bad.file; }
 
 class BadInputCatalogue : public ::testing::TestWithParam<BadInput> {};
 

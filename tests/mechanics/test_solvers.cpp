@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <ostream>
 #include <random>
 #include <string>
 #include <thread>
@@ -138,6 +139,8 @@ struct HarnessCase {
   std::string solver;
   std::string matrix;
 };
+
+void PrintTo(const HarnessCase& c, std::ostream* out) { *out << c.solver << " on " << c.matrix; }
 
 class SolverHarness : public ::testing::TestWithParam<HarnessCase> {};
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <ostream>
 #include <sstream>
 #include <string>
 
@@ -70,6 +71,10 @@ struct Options {
   // and parameters.csv (the other files are only printed).
   double tolerance = 0;
 };
+
+// ctest names a case by what this prints: its name, never the struct's bytes (which hold
+// pointers and so change from one build to the next).
+void PrintTo(const Options& options, std::ostream* out) { *out << options.name; }
 
 class ResumeIdentity : public ::testing::TestWithParam<Options> {};
 
