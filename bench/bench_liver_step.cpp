@@ -9,13 +9,18 @@
 // A small driver rather than Google Benchmark: each configuration is a whole run, and the table
 // gives the median over its steps (after 5 warm-up steps) with the per-step CPU breakdown.
 //
-//   bench_liver_step [SURFACE|NAME|phantom] [STEPS] [OUT_DIR]     (defaults: phantom 100 out/bench)
+// First it builds the mean's tangent at rest 11 times on one thread and prints the medians of
+// its parts (FrozenTangent: assembly, factorisation, the springs' correction).
+//
+//   bench_liver_step [SURFACE|NAME|phantom] [STEPS] [OUT_DIR] [MODES]
+//   (defaults: phantom 100 out/bench own,mean,mean-bg)
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,6 +28,7 @@
 #include "bcassim/experiments/liver/LiverScenario.h"
 #include "bcassim/experiments/liver/LiverSurfacePath.h"
 #include "bcassim/io/CsvTable.h"
+#include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/run/SimulationRunner.h"
 #include "bcassim/scene/SceneLoader.h"
@@ -89,6 +95,28 @@ Row measure(const std::filesystem::path& dir, const std::string& mode, int threa
           totals.empty() ? 0.0 : totals.back()};
 }
 
+// Medians of FrozenTangent::build's parts at the rest state of the estimation scene (ms).
+void printTangentBuild(const std::filesystem::path& dir) {
+  const bcassim::Scene scene = bcassim::loadScene((dir / "estimate.yaml").string());
+  const bcassim::MechanicalState rest = scene.model.restState();
+  std::vector<double> assembly, factorization, springs, total;
+  std::shared_ptr<const bcassim::FrozenTangent> previous;
+  for (int i = 0; i < 11; ++i) {
+    auto t = bcassim::FrozenTangent::build(scene.model, rest, scene.dt(),
+                                           previous ? &previous->factor() : nullptr);
+    assembly.push_back(1e3 * t->assemblySeconds());
+    factorization.push_back(1e3 * t->factorizationSeconds());
+    springs.push_back(1e3 * t->springSeconds());
+    total.push_back(1e3 * t->buildSeconds());
+    previous = t;
+  }
+  std::cout << fmt::format(
+      "tangent build at rest, one thread, median of 11 (ms): total {:.1f} = assembly {:.1f} + "
+      "factorisation {:.1f} + springs' correction {:.1f} ({} springs)\n\n",
+      median(total), median(assembly), median(factorization), median(springs),
+      scene.model.springs.springs().size());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -96,6 +124,7 @@ int main(int argc, char** argv) {
     const std::string liver = argc > 1 ? argv[1] : bcassim::kLiverPhantomName;
     const int steps = argc > 2 ? std::stoi(argv[2]) : 100;
     const std::filesystem::path out = argc > 3 ? argv[3] : "out/bench";
+    const std::string modes = argc > 4 ? argv[4] : "own,mean,mean-bg";
     bcassim::LiverScenarioOptions o;
     o.surface = bcassim::resolveLiverSurface(liver);
     o.fineNodes = 3000;  // the truth only supplies the observed tracks here
@@ -106,12 +135,16 @@ int main(int argc, char** argv) {
     bcassim::runSimulation(bcassim::loadScene((dir / "truth.yaml").string()),
                            (dir / "truth").string());
 
+    printTangentBuild(dir);
     std::vector<Row> rows;
     for (const char* mode : {"own", "mean", "mean-bg"})
       for (int threads : {1, 2}) {
+        if (("," + modes + ",").find(std::string(",") + mode + ",") == std::string::npos) continue;
         rows.push_back(measure(dir, mode, threads, steps));
         std::fprintf(stderr, "%s, %d thread(s): %.1f ms\n", mode, threads, rows.back().step);
       }
+    if (rows.empty())
+      throw std::invalid_argument("no mode among '" + modes + "' (own, mean, mean-bg)");
     std::cout << fmt::format(
         "liver {} ({} estimation nodes), {} steps of 0.02 s, 11 sigma points; medians (and mean, "
         "p95, max of the step) over steps "

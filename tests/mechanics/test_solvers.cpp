@@ -574,6 +574,62 @@ TEST(SolverCholeskyFactor, SplitSweepsGiveTheSameBitsOnAnyNumberOfThreads) {
   EXPECT_THROW(work.setThreads(-1), std::invalid_argument);
 }
 
+// A low-rank update (A + B C B^T) solved through the forward half of a block solve: W = L^-1 P B
+// lives on the elimination-tree paths of B's few non-zero rows only, G = W^T W = B^T A^-1 B, and
+// the Woodbury correction applied between the sweeps gives the updated system's solution.
+TEST(SolverCholeskyFactor, ForwardSolveAlongPathsGivesWoodburyUpdatesBetweenTheSweeps) {
+  const SparseMatrix A = laplacian3d(16, 0.05);
+  const auto n = A.rows();
+  CholeskyFactor factor;
+  factor.factorize(A);
+  // Two "springs", each spreading 3 components over 4 nearby dofs, as a spring's attachment does.
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n, 6);
+  const int anchors[2] = {137, 2901};
+  for (int s = 0; s < 2; ++s)
+    for (int c = 0; c < 3; ++c)
+      for (int a = 0; a < 4; ++a) B(anchors[s] + 3 * a + c, 3 * s + c) = 0.1 + 0.2 * a;
+  std::vector<int> rows;
+  Eigen::MatrixXd W;
+  factor.forwardSolve(B, rows, W);
+  ASSERT_EQ(W.rows(), static_cast<Eigen::Index>(rows.size()));
+  ASSERT_EQ(W.cols(), B.cols());
+  EXPECT_LT(static_cast<Eigen::Index>(rows.size()), n / 2) << "the paths are most of the tree";
+  EXPECT_TRUE(std::is_sorted(rows.begin(), rows.end()));
+  Eigen::MatrixXd AinvB;
+  factor.solve(B, AinvB);
+  const Eigen::MatrixXd G = W.transpose() * W, exactG = B.transpose() * AinvB;
+  EXPECT_LE((G - exactG).norm(), 1e-12 * exactG.norm());
+
+  Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
+  C.block<3, 3>(0, 0) << 3.0, 0.5, 0.0, 0.5, 2.0, 0.1, 0.0, 0.1, 1.0;
+  C.block<3, 3>(3, 3) = -0.5 * C.block<3, 3>(0, 0);  // a spring made softer: still SPD here
+  const SparseMatrix Bs = B.sparseView();
+  const SparseMatrix updated =
+      A + SparseMatrix(Bs * SparseMatrix(C.sparseView()) * SparseMatrix(Bs.transpose()));
+  const Eigen::VectorXd b = randomVector(n, 85);
+  const Eigen::VectorXd exact = directSolve(updated, b);
+  const auto lu = (Eigen::MatrixXd::Identity(6, 6) + C * G).partialPivLu();
+  const CholeskyFactor::MidCorrection woodbury = [&](Eigen::VectorXd& c) {
+    Eigen::VectorXd onPaths(W.rows());
+    for (size_t r = 0; r < rows.size(); ++r) onPaths(static_cast<Eigen::Index>(r)) = c(rows[r]);
+    onPaths = W * lu.solve(C * (W.transpose() * onPaths));
+    for (size_t r = 0; r < rows.size(); ++r) c(rows[r]) -= onPaths(static_cast<Eigen::Index>(r));
+  };
+  for (int threads : {0, 2}) {
+    CholeskyFactor::Workspace work;
+    work.setThreads(threads);
+    Eigen::VectorXd x;
+    factor.solveWithMidCorrection(b, x, work, false, woodbury);
+    EXPECT_LE(relativeError(x, exact), 1e-12) << threads;
+    factor.solveWithMidCorrection(b, x, work, true, woodbury);
+    EXPECT_LE(relativeError(x, exact), 1e-4) << threads;
+    factor.solveWithMidCorrection(b, x, work, false, [](Eigen::VectorXd&) {});
+    EXPECT_LE(relativeError(x, directSolve(A, b)), 1e-12) << threads;
+  }
+  EXPECT_THROW(factor.forwardSolve(Eigen::MatrixXd::Zero(n - 1, 2), rows, W),
+               std::invalid_argument);
+}
+
 TEST(SolverFactorizedPcg, SinglePrecisionPreconditionerStillConvergesInDouble) {
   const SparseMatrix A0 = laplacian3d(14, 0.05);
   const SparseMatrix A1 = perturb(A0, 0.05, 11);

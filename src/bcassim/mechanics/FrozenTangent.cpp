@@ -60,22 +60,30 @@ Eigen::MatrixXd FrozenTangent::springChange(const MechanicalModel& model, const 
   return D;
 }
 
-void FrozenTangent::solve(const MechanicalModel& model, const Eigen::MatrixXd& D,
-                          const Eigen::VectorXd& b, Eigen::VectorXd& y,
+void FrozenTangent::solve(const Eigen::MatrixXd& D, const Eigen::VectorXd& b, Eigen::VectorXd& y,
                           CholeskyFactor::Workspace& work, bool singlePrecision) const {
-  if (singlePrecision)
-    factor_->solveSinglePrecision(b, y, work);
-  else
-    factor_->solve(b, y, work);
-  if (D.size() == 0 || !D.any()) return;
-  // Woodbury (springSolutions): y -= Z (I + c D G)^-1 c D U^T y.
+  if (D.size() == 0 || !D.any()) {
+    if (singlePrecision)
+      factor_->solveSinglePrecision(b, y, work);
+    else
+      factor_->solve(b, y, work);
+    return;
+  }
+  // Woodbury between the sweeps (springGram): w = (I + c D G)^-1 c D W^T z, z -= W w.
   const double c = stiffnessScale_;
   Eigen::MatrixXd system = Eigen::MatrixXd::Identity(G_.rows(), G_.cols());
   for (Eigen::Index k = 0; k < D.rows(); k += 3)
     system.middleRows<3>(k) += c * D.middleRows<3>(k) * G_.middleRows<3>(k);
-  const Eigen::VectorXd w =
-      system.partialPivLu().solve(c * blockDiagonalTimes(D, springGather(model, y, true)));
-  y.noalias() -= Z_ * w;
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(system);
+  factor_->solveWithMidCorrection(b, y, work, singlePrecision, [&](Eigen::VectorXd& z) {
+    Eigen::VectorXd onPaths(static_cast<Eigen::Index>(springRows_.size()));
+    for (size_t r = 0; r < springRows_.size(); ++r)
+      onPaths(static_cast<Eigen::Index>(r)) = z(springRows_[r]);
+    const Eigen::VectorXd w = lu.solve(c * blockDiagonalTimes(D, W_.transpose() * onPaths));
+    onPaths.noalias() = W_ * w;
+    for (size_t r = 0; r < springRows_.size(); ++r)
+      z(springRows_[r]) -= onPaths(static_cast<Eigen::Index>(r));
+  });
 }
 
 void FrozenTangent::moveKnownSpringColumns(const MechanicalModel& model, const Eigen::MatrixXd& D,
@@ -130,9 +138,8 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::assemble(const MechanicalMod
     const auto r = 3 * static_cast<Eigen::Index>(springs.size());
     Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, r);
     forEachSpringEntry(model, true, [&](Eigen::Index j, int d, double w) { U(d, j) += w; });
-    t->factor_->solve(U, t->Z_);
-    t->G_.resize(r, r);  // U^T Z from the few rows of Z that U touches
-    for (Eigen::Index j = 0; j < r; ++j) t->G_.col(j) = springGather(model, t->Z_.col(j), true);
+    t->factor_->forwardSolve(U, t->springRows_, t->W_);
+    t->G_.noalias() = t->W_.transpose() * t->W_;
     for (size_t s = 0; s < springs.size(); ++s)
       t->springBlocks_.push_back(
           model.springs.attachmentStiffness(*model.mesh, state.x, state.t, s));

@@ -14,7 +14,7 @@ namespace bcassim {
 
 class FrozenTangent {
  public:
-  // Springs beyond this many get no correction (3 columns each in A^-1 U, built by block solves).
+  // Springs beyond this many get no correction (3 columns each in L^-1 P U).
   static constexpr int kMaxCorrectedSprings = 128;
 
   // Assembles K at (state.x, state.t) with the model as it is now (its parameters included),
@@ -47,7 +47,7 @@ class FrozenTangent {
   // Seconds spent building (assembly, factorisation, spring correction), for timings.
   double buildSeconds() const { return buildSeconds_; }
   // The parts of buildSeconds(): stiffness assembly and system matrix, numerical factorisation,
-  // the spring correction (A^-1 U by a block solve, G).
+  // the spring correction (L^-1 P U by a forward block solve along the springs' paths, G).
   double assemblySeconds() const { return assemblySeconds_; }
   double factorizationSeconds() const { return factorizationSeconds_; }
   double springSeconds() const { return springSeconds_; }
@@ -56,10 +56,12 @@ class FrozenTangent {
   // U spreads component c of spring s's attachment to its tet's nodes by the barycentric weights
   // (rows of Dirichlet dofs zero). A step whose springs have blocks H_s' solves
   // (A + h U D U^T) y = b with D = blockdiag(H_s' - H_s), h = stiffnessScale(), by Woodbury:
-  // y = A^-1 b - Z (I + h D G)^-1 h D U^T A^-1 b, Z = A^-1 U, G = U^T Z.
+  // y = A^-1 b - A^-1 U (I + h D G)^-1 h D U^T A^-1 b, G = U^T A^-1 U. With A = P^T L L^T P and
+  // W = L^-1 P U (non-zero only on the springs' elimination-tree paths, so cheap to build):
+  // G = W^T W, U^T A^-1 b = W^T c and y = P^T L^-T (c - W w) with c = L^-1 P b, so a step costs
+  // one solve plus a few products with W, and A^-1 U is never formed.
   bool correctsSprings() const { return !springBlocks_.empty(); }
   const std::vector<Mat3>& springBlocks() const { return springBlocks_; }  // H_s, N/m
-  const Eigen::MatrixXd& springSolutions() const { return Z_; }            // Z, n x 3S
   const Eigen::MatrixXd& springGram() const { return G_; }                 // G, 3S x 3S
 
   // D = blockdiag(H_s' - H_s) stacked as 3S x 3 blocks: the springs of `model` at (x, t) against
@@ -70,9 +72,8 @@ class FrozenTangent {
   // springChange (empty or zero: A^-1 b), c = stiffnessScale(). singlePrecision: A^-1 through
   // the factor rounded to float (CholeskyFactor::solveSinglePrecision, ~1e-3 relative on a
   // liver): half the memory traffic, for iterations that correct their own error (chords).
-  void solve(const MechanicalModel& model, const Eigen::MatrixXd& D, const Eigen::VectorXd& b,
-             Eigen::VectorXd& y, CholeskyFactor::Workspace& work,
-             bool singlePrecision = false) const;
+  void solve(const Eigen::MatrixXd& D, const Eigen::VectorXd& b, Eigen::VectorXd& y,
+             CholeskyFactor::Workspace& work, bool singlePrecision = false) const;
   // b -= c U D U^T known (known: a full-length vector, zero but on constrained dofs): the
   // springs' share of the constrained columns, before eliminateRightHandSide.
   void moveKnownSpringColumns(const MechanicalModel& model, const Eigen::MatrixXd& D,
@@ -91,7 +92,8 @@ class FrozenTangent {
   SparseMatrix K_, A_;
   std::shared_ptr<CholeskyFactor> factor_;
   std::vector<Mat3> springBlocks_;
-  Eigen::MatrixXd Z_, G_;
+  std::vector<int> springRows_;  // the rows of L that W can have non-zero
+  Eigen::MatrixXd W_, G_;        // W on springRows_ (|springRows_| x 3S), G = W^T W
 };
 
 // U^T v for the springs of `model` (3 entries per spring), skipping Dirichlet dofs when

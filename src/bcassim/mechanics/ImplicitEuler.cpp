@@ -227,7 +227,7 @@ void ImplicitEuler::attemptWithTangent(const MechanicalModel& model, MechanicalS
   timings_.assembly += secondsBetween(t0, Clock::now());
 
   t0 = Clock::now();
-  tangent.solve(model, D, rhs_, dv_, factorWork_);
+  tangent.solve(D, rhs_, dv_, factorWork_);
   ++timings_.linearSolves;
   timings_.lastSolve = {};
   timings_.solve += secondsBetween(t0, Clock::now());

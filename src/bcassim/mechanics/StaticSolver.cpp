@@ -252,7 +252,7 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
       }
       bc.eliminateRightHandSide(tangent.systemMatrix(), chordRhs_, chordKnown_);
     }
-    tangent.solve(model, D, chordRhs_, chordDx_, work, singlePrecision);
+    tangent.solve(D, chordRhs_, chordDx_, work, singlePrecision);
     if (report.iterations == maxIterations) {
       // The last step's residual is not evaluated: a linearised step needs none, and a solve
       // that needed all of its steps is finished by Newton anyway.

@@ -178,11 +178,17 @@ struct Supernodes {
   }
 };
 
-// x = P^T L^{-T} L^{-1} P b, one supernode after the other.
-template <typename Scalar>
+// Leaves the forward sweep's result as it is (a solve without a correction between the sweeps).
+struct NoMidCorrection {
+  template <class Vector>
+  void operator()(Vector& /*y*/) const {}
+};
+
+// x = P^T L^{-T} mid(L^{-1} P b), one supernode after the other; mid(y) may change y in place.
+template <typename Scalar, class Mid = NoMidCorrection>
 void supernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Eigen::VectorXd& b,
                      Eigen::VectorXd& x, Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& y,
-                     Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& t) {
+                     Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& t, Mid&& mid = {}) {
   const Supernodes<Scalar> sn(L, Lx);
   const auto n = static_cast<Eigen::Index>(L.n);
   const auto nsuper = static_cast<int>(L.nsuper);
@@ -192,6 +198,7 @@ void supernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Eigen::Vec
   for (Eigen::Index i = 0; i < n; ++i) y[i] = static_cast<Scalar>(b[perm[i]]);
   const auto own = [&](int r, Scalar v) { y[r] -= v; };
   for (int k = 0; k < nsuper; ++k) sn.forward(k, y, t, sn.wholeForward, own);
+  mid(y);
   for (int k = nsuper - 1; k >= 0; --k) sn.backward(k, y, t, sn.wholeBackward);
   x.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) x[perm[i]] = static_cast<double>(y[i]);
@@ -303,13 +310,13 @@ struct SplitScratch {
 // supernodalSolve with the groups of `split` on `arena`'s threads: the forward sweep runs the
 // groups concurrently, each collecting what it takes from the top rows in its own delta, then the
 // deltas in group order, then the top; the backward sweep runs the top, then the groups (they only
-// read the top rows). Any number of threads gives the same bits.
-template <typename Scalar>
+// read the top rows). Any number of threads gives the same bits. mid(y) runs between the sweeps.
+template <typename Scalar, class Mid = NoMidCorrection>
 void splitSupernodalSolve(const cholmod_factor& L, const Scalar* Lx, const SubtreeSplit& split,
                           tbb::task_arena& arena, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                           Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& y,
                           Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& t,
-                          SplitScratch<Scalar>& scratch) {
+                          SplitScratch<Scalar>& scratch, Mid&& mid = {}) {
   const Supernodes<Scalar> sn(L, Lx);
   const auto n = static_cast<Eigen::Index>(L.n);
   const int* perm = static_cast<const int*>(L.Perm);
@@ -348,6 +355,7 @@ void splitSupernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Subtr
     else
       sn.forward(k, y, t, sn.wholeForward, own);
   }
+  mid(y);
   for (auto k = split.top.rbegin(); k != split.top.rend(); ++k) {
     if (sn.chunked(*k))
       sn.backward(*k, y, t, sn.piecewiseBackward(eachPiece));
@@ -404,6 +412,7 @@ struct CholeskyFactor::Workspace::Impl {
   cholmod_sparse* Xset = nullptr;
   Eigen::VectorXf yf, tf;  // single-precision sweep: permuted vector, off-diagonal products
   Eigen::VectorXd yd, td;  // the same in double
+  Eigen::VectorXd cd;      // solveWithMidCorrection in single precision: the forward result widened
   int threads = 0;         // setThreads
   std::unique_ptr<tbb::task_arena> arena;
   SplitScratch<float> splitF;
@@ -569,6 +578,80 @@ void CholeskyFactor::solveSupernodalDouble(const Eigen::VectorXd& b, Eigen::Vect
     splitSupernodalSolve(*numeric_->L, Lx, subtreeSplit(), *w.arena, b, x, w.yd, w.td, w.splitD);
   else
     supernodalSolve(*numeric_->L, Lx, b, x, w.yd, w.td);
+}
+
+void CholeskyFactor::forwardSolve(const Eigen::MatrixXd& B, std::vector<int>& rows,
+                                  Eigen::MatrixXd& W) const {
+  if (!isFactorized()) throw std::logic_error("CholeskyFactor::solve before a factorisation");
+  if (B.rows() != this->rows())
+    throw std::invalid_argument("CholeskyFactor::forwardSolve: wrong size of B");
+  const cholmod_factor& L = *numeric_->L;
+  const Supernodes<double> sn(L, static_cast<const double*>(L.x));
+  const auto n = static_cast<Eigen::Index>(L.n);
+  const auto nsuper = static_cast<int>(L.nsuper);
+  const int* perm = static_cast<const int*>(L.Perm);
+  // The supernodes that hold a non-zero row of P B, then their ancestors (a supernode's parent
+  // holds the first row below its diagonal block; ancestors come later in the order).
+  std::vector<int> superOf(L.n);
+  for (int k = 0; k < nsuper; ++k)
+    for (int c = sn.super[k]; c < sn.super[k + 1]; ++c) superOf[static_cast<size_t>(c)] = k;
+  std::vector<char> onPath(static_cast<size_t>(nsuper), 0);
+  // Row-major: the updates below a supernode subtract whole rows.
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajor Y = RowMajor::Zero(n, B.cols());
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (B.row(perm[i]).any()) {
+      Y.row(i) = B.row(perm[i]);
+      onPath[static_cast<size_t>(superOf[static_cast<size_t>(i)])] = 1;
+    }
+  RowMajor T;
+  for (int k = 0; k < nsuper; ++k) {
+    if (!onPath[static_cast<size_t>(k)]) continue;
+    const auto p = sn.panel(k);
+    auto Yk = Y.middleRows(p.first, p.nscol);
+    p.block.topRows(p.nscol).triangularView<Eigen::Lower>().solveInPlace(Yk);
+    if (p.below == 0) continue;
+    T.noalias() = p.lower() * Yk;
+    for (int i = 0; i < p.below; ++i) Y.row(p.rows[i]) -= T.row(i);
+    const int parentRow = *std::min_element(p.rows, p.rows + p.below);
+    onPath[static_cast<size_t>(superOf[static_cast<size_t>(parentRow)])] = 1;
+  }
+  rows.clear();
+  for (int k = 0; k < nsuper; ++k)
+    if (onPath[static_cast<size_t>(k)])
+      for (int c = sn.super[k]; c < sn.super[k + 1]; ++c) rows.push_back(c);
+  W.resize(static_cast<Eigen::Index>(rows.size()), B.cols());
+  for (size_t r = 0; r < rows.size(); ++r) W.row(static_cast<Eigen::Index>(r)) = Y.row(rows[r]);
+}
+
+void CholeskyFactor::solveWithMidCorrection(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                            Workspace& work, bool singlePrecision,
+                                            const MidCorrection& mid) const {
+  if (!isFactorized()) throw std::logic_error("CholeskyFactor::solve before a factorisation");
+  if (b.size() != rows()) throw std::invalid_argument("CholeskyFactor::solve: wrong size of b");
+  Workspace::Impl& w = *work.impl_;
+  const cholmod_factor& L = *numeric_->L;
+  if (singlePrecision) {
+    prepareSinglePrecision();
+    const float* Lx = numeric_->single->x.data();
+    // The correction works in double: c is widened, corrected and rounded back.
+    const auto midFloat = [&](Eigen::VectorXf& y) {
+      w.cd = y.cast<double>();
+      mid(w.cd);
+      y = w.cd.cast<float>();
+    };
+    if (w.threads > 0)
+      splitSupernodalSolve(L, Lx, subtreeSplit(), *w.arena, b, x, w.yf, w.tf, w.splitF, midFloat);
+    else
+      supernodalSolve(L, Lx, b, x, w.yf, w.tf, midFloat);
+  } else {
+    const auto* Lx = static_cast<const double*>(L.x);
+    const auto midDouble = [&](Eigen::VectorXd& y) { mid(y); };
+    if (w.threads > 0)
+      splitSupernodalSolve(L, Lx, subtreeSplit(), *w.arena, b, x, w.yd, w.td, w.splitD, midDouble);
+    else
+      supernodalSolve(L, Lx, b, x, w.yd, w.td, midDouble);
+  }
 }
 
 bool CholeskyFactor::isAnalyzed() const { return symbolic_ != nullptr; }

@@ -2,7 +2,9 @@
 // then used read-only by many threads, e.g. as the preconditioner shared by all sigma points.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <vector>
 
 #include "bcassim/Types.h"
 
@@ -69,6 +71,22 @@ class CholeskyFactor {
   // The same supernodal sweep in double precision on L itself (a check of the float path; CHOLMOD's
   // solve() is the production double path).
   void solveSupernodalDouble(const Eigen::VectorXd& b, Eigen::VectorXd& x, Workspace& work) const;
+
+  // The forward half of a block solve, for right-hand sides with few non-zero rows (the
+  // attachments of a few springs): W = L^{-1} P B, of which only the rows on the elimination-tree
+  // paths from B's non-zero rows to the root can be non-zero. Sets `rows` to those rows (in L's
+  // ordering, ascending) and W to them alone (rows.size() x B.cols()). Costs a fraction of
+  // solve(B, X): no supernode off those paths, no backward sweep. Double precision, on L itself.
+  void forwardSolve(const Eigen::MatrixXd& B, std::vector<int>& rows, Eigen::MatrixXd& W) const;
+  // A correction between the two sweeps of a solve: gets c = L^{-1} P b (double, in L's
+  // ordering) and changes it in place; the solve returns P^T L^{-T} c. With the W of
+  // forwardSolve this applies a low-rank update's Woodbury correction without A^{-1} U.
+  using MidCorrection = std::function<void(Eigen::VectorXd& c)>;
+  // x = P^T L^{-T} mid(L^{-1} P b) by this class' supernodal sweeps: in double on L (like
+  // solveSupernodalDouble) or with L rounded to float (like solveSinglePrecision), split over
+  // the workspace's threads as those are. Thread-safe like solve().
+  void solveWithMidCorrection(const Eigen::VectorXd& b, Eigen::VectorXd& x, Workspace& work,
+                              bool singlePrecision, const MidCorrection& mid) const;
 
   bool isAnalyzed() const;
   bool isFactorized() const;
