@@ -3,7 +3,9 @@
 # truth run's marker tracks replayed at 30 Hz by `bcassim replay`, and the latency of every frame
 # from its last byte read by the server to its answer (hidden points, surface) leaving the socket
 # (served/latency.csv), with the round trip the replaying client measured. Prints one markdown
-# row for docs/benchmarks.md.
+# row for docs/benchmarks.md. The scene's validation run (a forward run of the fixed baseline per
+# frame, for errors.csv) is left out (--no-validation): a live camera has no truth to compare to;
+# SERVE_VALIDATION=1 keeps it.
 #
 #   [SERVE_OPTIONS=--async] bench/serve_latency.sh BUILD_DIR LIVER [OUT] [extra `liver prepare` options]
 #   e.g. bench/serve_latency.sh build phantom out/bench/serve-phantom
@@ -23,7 +25,7 @@ if [ ! -f truth/markers.csv ]; then
 fi
 rm -rf served
 # shellcheck disable=SC2086
-"$BCASSIM" serve estimate.yaml ${SERVE_OPTIONS:-} --port 0 --out served --idle-timeout 30 > serve.out 2> serve.log &
+"$BCASSIM" serve estimate.yaml ${SERVE_OPTIONS:-} $([ "${SERVE_VALIDATION:-0}" = 1 ] || echo --no-validation) --port 0 --out served --idle-timeout 30 > serve.out 2> serve.log &
 server=$!
 for _ in $(seq 600); do grep -q '^serving' serve.out 2>/dev/null && break; sleep 0.1; done
 port=$(sed -n 's/^serving .* on 127\.0\.0\.1:\([0-9]*\) .*/\1/p' serve.out)

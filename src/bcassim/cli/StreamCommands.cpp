@@ -79,6 +79,10 @@ class ServeCommand : public Command {
                                     "End the run when no frame came for this long, s (0: never)")
                          ->capture_default_str());
     app.add_flag("--no-surface", noSurface_, "Send the hidden points only, not the surface");
+    app.add_flag("--no-validation", noValidation_,
+                 "Skip the scene's validation (assimilation.validation: a forward run with the "
+                 "initial parameters and errors.csv, one more model step after each answer, "
+                 "before the next frame is read): for a camera with no truth, or for latency");
     app.add_flag("--async", async_,
                  "Answer every frame at once from a real-time model with the latest analysis; "
                  "the filter runs behind on its own thread (one sigma-point thread)");
@@ -108,6 +112,7 @@ class ServeCommand : public Command {
     Scene scene = loadScene(scenePath_);
     if (!scene.assimilation)
       throw InputError(scenePath_ + ": no assimilation: section (see docs/assimilation-format.md)");
+    if (noValidation_) scene.assimilation->validationTruth.reset();
     ServeOptions options;
     options.outDir = outDir_;
     options.idleTimeout = idleTimeout_;
@@ -184,7 +189,7 @@ class ServeCommand : public Command {
   int port_ = 18944;
   double idleTimeout_ = 0.0, filterDelay_ = 0.0;
   std::string realTimeStep_ = "own";
-  bool noSurface_ = false, async_ = false;
+  bool noSurface_ = false, noValidation_ = false, async_ = false;
   int maxLag_ = 8;
 };
 
