@@ -129,5 +129,21 @@ TEST(RealTimeModel, FrozenTangentsBuiltBehindTheLoopStayOnTheOwnStep) {
   EXPECT_LT(r.largestGap, 0.06 * r.largestMotion);
 }
 
+TEST(RealTimeModel, WarmingUpLeavesTheTrajectoryAsItWas) {
+  const std::shared_ptr<const Scene> scene = realTimePhantomScene();
+  RealTimeModel cold(*scene, RealTimeTangent::Own);
+  RealTimeModel warm(*scene, RealTimeTangent::Own);
+  const Eigen::VectorXd rest = warm.positions();
+  warm.warmUp();  // one own step taken and undone
+  EXPECT_EQ(warm.step(), 0);
+  EXPECT_EQ((warm.positions() - rest).norm(), 0.0);
+  cold.advanceTo(10);
+  warm.advanceTo(10);
+  const double motion = (cold.positions() - rest).cwiseAbs().maxCoeff();
+  EXPECT_GT(motion, 1e-4);
+  // The same steps from the same state (up to the iterative solve's tolerance, 1e-8 relative).
+  EXPECT_LT((warm.positions() - cold.positions()).cwiseAbs().maxCoeff(), 1e-6 * motion);
+}
+
 }  // namespace
 }  // namespace bcassim

@@ -63,6 +63,15 @@ void RealTimeModel::finishTangent() {
   takeReadyTangent();
 }
 
+void RealTimeModel::warmUp() {
+  finishTangent();
+  const MechanicalState state = run_.state();
+  const int steps = run_.steps();
+  run_.useTangent(nullptr);
+  run_.step();
+  run_.restore(state, steps);
+}
+
 void RealTimeModel::adopt(const Eigen::VectorXd& values, const Eigen::VectorXd& x,
                           const Eigen::VectorXd& v, int step) {
   run_.setValues(scene_.assimilation->parameters, values);

@@ -131,6 +131,9 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o, IgtlS
   const AssimilationSettings& s = *scene.assimilation;
   FramePublisher publisher(server, *scene.model.mesh, o.sendSurface, o.outDir);
   RealTimeModel model(scene, o.realTimeTangent);
+  // The first frozen tangent and the own step's first factorisation before the first frame is
+  // read: paid while frames wait, they made the first answers queue behind them.
+  model.warmUp();
   const Eigen::Index nodes3 = model.positions().size();
 
   RunnerHandoff handoff;
