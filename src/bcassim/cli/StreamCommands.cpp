@@ -135,26 +135,31 @@ class ServeCommand : public Command {
     }
 
     createOutputDirectory(outDir_);
-    IgtlServer server(host_, port_, logLine);
-    fmt::print(
-        "serving {} on {}:{} (OpenIGTLink): POINT messages of the {} markers in (mm), per frame "
-        "bcassim_hidden (POINT, {} hidden points with their 95 % radius){} out; {} steps of "
-        "{:.6g} s -> {}\n",
-        scenePath_, host_, server.port(), scene.markers.points.size(), scene.hidden.points.size(),
-        noSurface_ ? "" : " and bcassim_surface (POLYDATA)", scene.steps, scene.dt(), outDir_);
-    std::fflush(stdout);
-
     gInterrupted = false;
     std::signal(SIGINT, onInterrupt);
     std::signal(SIGTERM, onInterrupt);
-    const ServeReport report = serveScene(scene, options, server, gInterrupted, logLine);
-    server.stop();
+    // The port opens, and the line announcing it is printed, once the filter is set up.
+    std::optional<IgtlServer> server;
+    const OpenServer openServer = [&]() -> IgtlServer& {
+      server.emplace(host_, port_, logLine);
+      fmt::print(
+          "serving {} on {}:{} (OpenIGTLink): POINT messages of the {} markers in (mm), per frame "
+          "bcassim_hidden (POINT, {} hidden points with their 95 % radius){} out; {} steps of "
+          "{:.6g} s -> {}\n",
+          scenePath_, host_, server->port(), scene.markers.points.size(),
+          scene.hidden.points.size(), noSurface_ ? "" : " and bcassim_surface (POLYDATA)",
+          scene.steps, scene.dt(), outDir_);
+      std::fflush(stdout);
+      return *server;
+    };
+    const ServeReport report = serveScene(scene, options, openServer, gInterrupted, logLine);
+    if (server) server->stop();
     std::signal(SIGINT, SIG_DFL);
     std::signal(SIGTERM, SIG_DFL);
     const AssimilationResult& r = report.assimilation;
     fmt::print("served {} steps ({} observed) from {} frames, {} refused, {} client{} in all\n",
                r.steps, r.observedSteps, report.framesReceived, report.framesRefused,
-               server.clientsEver(), server.clientsEver() == 1 ? "" : "s");
+               server ? server->clientsEver() : 0, server && server->clientsEver() == 1 ? "" : "s");
     for (const ParameterResult& p : r.parameters)
       fmt::print("  {:<14} {:.6g} ± {:.3g}\n", p.name, p.mean, p.stddev);
     fmt::print("latency (frame arrival -> prediction sent): {}\n", latencyLine(report.latencyMs));

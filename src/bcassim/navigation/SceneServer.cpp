@@ -25,12 +25,61 @@ namespace bcassim {
 
 namespace {
 
-ServeReport serveSynchronously(const Scene& scene, const ServeOptions& o, IgtlServer& server,
-                               FrameIntake& intake) {
-  FramePublisher publisher(server, *scene.model.mesh, o.sendSurface, o.outDir);
+// The server with the frames coming in and the answers going out, opened once everything that
+// can be set up before the first frame is: frames sent while the filter was still being set up
+// waited for it (the first answers on the phantom 167 ms late).
+class ServeConnection {
+ public:
+  ServeConnection(const Scene& scene, const ServeOptions& o, OpenServer openServer,
+                  const std::atomic<bool>& interrupted, ServeLog log)
+      : scene_(scene),
+        o_(o),
+        openServer_(std::move(openServer)),
+        interrupted_(interrupted),
+        log_(std::move(log)) {}
+
+  void open() {
+    if (opened_) return;
+    IgtlServer& server = openServer_();
+    intake_.emplace(scene_, server, o_.timeOffset, o_.idleTimeout, interrupted_, log_);
+    publisher_.emplace(server, *scene_.model.mesh, o_.sendSurface, o_.outDir);
+    opened_ = true;
+  }
+  FrameIntake& intake() {
+    open();
+    return *intake_;
+  }
+  FramePublisher& publisher() {
+    open();
+    return *publisher_;
+  }
+  // Frames received and refused, the camera's period and the latencies into the report.
+  void report(ServeReport& r) const {
+    if (!opened_) return;
+    r.framesReceived = intake_->received();
+    r.framesRefused = intake_->skipped();
+    r.framePeriodS = intake_->medianFramePeriod();
+    r.latencyMs = publisher_->latencyMs();
+  }
+
+ private:
+  const Scene& scene_;
+  const ServeOptions& o_;
+  OpenServer openServer_;
+  const std::atomic<bool>& interrupted_;
+  ServeLog log_;
+  bool opened_ = false;
+  std::optional<FrameIntake> intake_;
+  std::optional<FramePublisher> publisher_;
+};
+
+ServeReport serveSynchronously(const Scene& scene, const ServeOptions& o,
+                               ServeConnection& connection) {
   std::optional<IntakeFrame> pending, current;
   AssimilationStream stream;
+  // The runner asks for step 1's frame once the filter is set up: the server opens then.
   stream.frame = [&](int step) {
+    FrameIntake& intake = connection.intake();
     current.reset();
     if (!pending) {
       pending = intake.next(step - 1);
@@ -44,12 +93,13 @@ ServeReport serveSynchronously(const Scene& scene, const ServeOptions& o, IgtlSe
     std::optional<AnsweredFrame> answered;
     if (current)
       answered = AnsweredFrame{current->step, current->stamp, current->client, current->arrival};
-    publisher.publish(p.step, p.time, current ? current->stamp : intake.stampOf(p.step), p.hidden,
-                      *p.nodePositions, answered);
+    connection.publisher().publish(p.step, p.time,
+                                   current ? current->stamp : connection.intake().stampOf(p.step),
+                                   p.hidden, *p.nodePositions, answered);
   };
   ServeReport report;
   report.assimilation = runAssimilation(scene, o.outDir, {}, false, &stream);
-  report.latencyMs = publisher.latencyMs();
+  connection.report(report);
   report.lagFrames.assign(report.latencyMs.size(), 0);
   return report;
 }
@@ -72,9 +122,21 @@ class RunnerHandoff {
     return std::move(*result_);
   }
 
+  // Waits until the runner is set up and asks for its first frame, or has ended (its failure
+  // rethrown).
+  void waitUntilReady() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return asked_ || ended_; });
+    if (failure_) std::rethrow_exception(failure_);
+  }
+
   // Runner thread: the frame for `step`, a step without one, or the end.
   StreamedFrame frame(long step) {
     std::unique_lock<std::mutex> lock(mutex_);
+    if (!asked_) {
+      asked_ = true;
+      changed_.notify_all();
+    }
     changed_.wait(lock, [&] { return frame_.has_value() || stop_; });
     if (!frame_) return {StreamedFrame::Kind::End, {}};
     if (frame_->first > step) return {};
@@ -119,17 +181,16 @@ class RunnerHandoff {
   std::optional<std::pair<long, Eigen::MatrixX3d>> frame_;
   std::optional<ParameterSet> result_;
   long observedStep_ = -1;  // runner thread only
-  bool stop_ = false, ended_ = false;
+  bool stop_ = false, ended_ = false, asked_ = false;
   std::exception_ptr failure_;
 };
 
 // Model steps the real-time side re-runs at most to continue from an analysed state.
 constexpr long kCatchUpSteps = 2;
 
-ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o, IgtlServer& server,
-                                FrameIntake& intake, const std::atomic<bool>& interrupted) {
+ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o,
+                                ServeConnection& connection, const std::atomic<bool>& interrupted) {
   const AssimilationSettings& s = *scene.assimilation;
-  FramePublisher publisher(server, *scene.model.mesh, o.sendSurface, o.outDir);
   RealTimeModel model(scene, o.realTimeTangent);
   // The first frozen tangent and the own step's first factorisation before the first frame is
   // read: paid while frames wait, they made the first answers queue behind them.
@@ -187,7 +248,7 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o, IgtlS
       hidden[static_cast<size_t>(i)].radius95Total = radii(i);
     }
     const long lag = frame.index - 1 - p.frame;
-    publisher.publish(
+    connection.publisher().publish(
         showing->step, static_cast<double>(showing->step) * scene.dt(), showing->stamp, hidden,
         model.positions(),
         AnsweredFrame{showing->step, showing->stamp, showing->client, showing->arrival}, lag);
@@ -206,6 +267,8 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o, IgtlS
   live.maxLagFrames = o.maxLagFrames;
   std::optional<LiveEngine> engine;
   try {
+    handoff.waitUntilReady();
+    FrameIntake& intake = connection.intake();
     engine.emplace(prior, realTime, filter, live);
     long done = 0;
     while (done < scene.steps && (showing = intake.next(done))) {
@@ -229,28 +292,24 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o, IgtlS
   handoff.stop();
   runner.join();
   if (runnerFailure) std::rethrow_exception(runnerFailure);
-  report.latencyMs = publisher.latencyMs();
+  connection.report(report);
   return report;
 }
 
 }  // namespace
 
-ServeReport serveScene(const Scene& scene, const ServeOptions& options, IgtlServer& server,
-                       const std::atomic<bool>& interrupted,
-                       const std::function<void(const std::string&)>& log) {
+ServeReport serveScene(const Scene& scene, const ServeOptions& options,
+                       const OpenServer& openServer, const std::atomic<bool>& interrupted,
+                       const ServeLog& log) {
   if (!scene.assimilation)
     throw InputError(scene.sourceFile +
                      ": no assimilation: section (see docs/assimilation-format.md)");
   if (options.maxLagFrames < 1)
     throw InputError(fmt::format("--max-lag {}: expected at least 1 frame", options.maxLagFrames));
-  FrameIntake intake(scene, server, options.timeOffset, options.idleTimeout, interrupted, log);
-  ServeReport report = options.mode == ServeMode::Synchronous
-                           ? serveSynchronously(scene, options, server, intake)
-                           : serveAsynchronously(scene, options, server, intake, interrupted);
-  report.framesReceived = intake.received();
-  report.framesRefused = intake.skipped();
-  report.framePeriodS = intake.medianFramePeriod();
-  return report;
+  ServeConnection connection(scene, options, openServer, interrupted, log);
+  return options.mode == ServeMode::Synchronous
+             ? serveSynchronously(scene, options, connection)
+             : serveAsynchronously(scene, options, connection, interrupted);
 }
 
 }  // namespace bcassim
