@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include "bcassim/Error.h"
+#include "bcassim/live/ThreadPriority.h"
 
 namespace bcassim {
 
@@ -41,6 +42,8 @@ void RealTimeModel::requestTangent() {
   std::shared_ptr<const FrozenTangent> previous = tangent_;
   const double dt = run_.dt();
   pending_ = std::async(std::launch::async, [this, previous, dt] {
+    // The frames stepped meanwhile come first; the filter behind the camera (nice +10) after it.
+    yieldToRealTime(5);
     return FrozenTangent::build(*tangentModel_, tangentState_, dt,
                                 previous ? &previous->factor() : nullptr);
   });

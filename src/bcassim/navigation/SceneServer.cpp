@@ -17,6 +17,7 @@
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
 #include "bcassim/live/LiveEngine.h"
+#include "bcassim/live/ThreadPriority.h"
 #include "bcassim/navigation/FrameIntake.h"
 #include "bcassim/navigation/FramePublisher.h"
 #include "bcassim/navigation/RealTimeModel.h"
@@ -204,6 +205,8 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o,
   ServeReport report;
   std::exception_ptr runnerFailure;
   std::thread runner([&] {
+    // The filter runs behind the camera: the real-time step and its tangent builds first.
+    yieldToRealTime(10);
     try {
       report.assimilation = runAssimilation(scene, o.outDir, {}, false, &stream);
     } catch (...) {
