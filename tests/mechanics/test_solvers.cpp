@@ -1,9 +1,9 @@
 // Linear solvers: every solver reproduces a known solution; PCG preconditioned by a stored
 // factorisation matches the direct solution; refresh policy; concurrent and block solves; errors.
-#include <cholmod.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/CholmodSupport>
 #include <algorithm>
 #include <cstdio>
 #include <ostream>
@@ -589,18 +589,7 @@ TEST(SolverCholeskyFactor, AnalysisKeepsASparserFactorThanAmdAlone) {
   c.supernodal = CHOLMOD_SUPERNODAL;
   c.nmethods = 1;
   c.method[0].ordering = CHOLMOD_AMD;
-  cholmod_sparse view{};
-  view.nrow = view.ncol = static_cast<size_t>(A.rows());
-  view.nzmax = static_cast<size_t>(A.nonZeros());
-  view.p = const_cast<int*>(A.outerIndexPtr());
-  view.i = const_cast<int*>(A.innerIndexPtr());
-  view.x = const_cast<double*>(A.valuePtr());
-  view.stype = -1;
-  view.itype = CHOLMOD_INT;
-  view.xtype = CHOLMOD_REAL;
-  view.dtype = CHOLMOD_DOUBLE;
-  view.sorted = 1;
-  view.packed = 1;
+  cholmod_sparse view = Eigen::viewAsCholmod(A.selfadjointView<Eigen::Lower>());
   cholmod_factor* amd = cholmod_analyze(&view, &c);
   ASSERT_NE(amd, nullptr);
   const double amdNonZeros = c.lnz;
