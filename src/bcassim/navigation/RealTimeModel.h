@@ -63,7 +63,8 @@ class RealTimeModel {
   void finishTangent();
   // Before the first frame: finishes the first tangent and takes one step with the state's own
   // stiffness, then goes back to where it was, so the first frames do not pay the own step's
-  // first analysis and factorisation (132 ms on the phantom, docs/live.md). Throws NumericalError.
+  // first analysis and factorisation (132 ms on the phantom's first own step in `serve --async`).
+  // Throws NumericalError.
   void warmUp();
 
  private:

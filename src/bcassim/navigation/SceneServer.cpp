@@ -32,7 +32,7 @@ namespace {
 class ServeConnection {
  public:
   ServeConnection(const Scene& scene, const ServeOptions& o, OpenServer openServer,
-                  const std::atomic<bool>& interrupted, ServeLog log)
+                  const std::atomic<bool>& interrupted, IgtlServer::Log log)
       : scene_(scene),
         o_(o),
         openServer_(std::move(openServer)),
@@ -68,7 +68,7 @@ class ServeConnection {
   const ServeOptions& o_;
   OpenServer openServer_;
   const std::atomic<bool>& interrupted_;
-  ServeLog log_;
+  IgtlServer::Log log_;
   bool opened_ = false;
   std::optional<FrameIntake> intake_;
   std::optional<FramePublisher> publisher_;
@@ -303,7 +303,7 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o,
 
 ServeReport serveScene(const Scene& scene, const ServeOptions& options,
                        const OpenServer& openServer, const std::atomic<bool>& interrupted,
-                       const ServeLog& log) {
+                       const IgtlServer::Log& log) {
   if (!scene.assimilation)
     throw InputError(scene.sourceFile +
                      ": no assimilation: section (see docs/assimilation-format.md)");

@@ -30,13 +30,12 @@ struct ServeReport {
 // Opens the server (listening, its address announced) and returns it; called once, when the
 // filter and the real-time model are set up, so that no frame waits for the set-up.
 using OpenServer = std::function<IgtlServer&()>;
-using ServeLog = std::function<void(const std::string&)>;
 
 // Serves until the scene's last step, an interrupt (`interrupted` set), or options.idleTimeout.
 // `log` gets one line per event (from two threads, never at once). Throws InputError,
 // NumericalError (a failed filter or real-time step, naming it), and what openServer throws.
 ServeReport serveScene(const Scene& scene, const ServeOptions& options,
                        const OpenServer& openServer, const std::atomic<bool>& interrupted,
-                       const ServeLog& log);
+                       const IgtlServer::Log& log);
 
 }  // namespace bcassim
