@@ -58,6 +58,14 @@ const BadInput kCatalogue[] = {
     {"vtk-binary-truncated.vtk", kMeshInfo,
      ": byte 185: CELLS 6 28 needs 28 values (at least 112 bytes), but the file has only 41 bytes "
      "left"},
+    // A cell list so long that its byte count would overflow a long long (make fuzz).
+    {"vtk-cells-size-overflows-bytes.vtk", kMeshInfo,
+     ": byte 232: CELLS 5 2833333333333333333 needs 2833333333333333333 values (4 bytes each), but "
+     "the file has only 22 bytes left"},
+    // A packed bit array whose tuple count overflowed when rounded up to bytes (make fuzz).
+    {"vtk-bit-array-count-overflows.vtk", kMeshInfo,
+     ": byte 161: FIELD array flags 9223372036854775807 x 1 bits, but the file has only 6 bytes "
+     "left"},
     // Cell types: a hexahedron listed with 4 ids (VTK dropped it: a hole), one with 8 (not a tet),
     // a type VTK does not have.
     {"vtk-hexahedron-with-4-ids.vtk", kMeshInfo,

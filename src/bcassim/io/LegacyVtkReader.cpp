@@ -236,9 +236,16 @@ class LegacyParser {
   void requireRoom(const Token& t, long long values, int bytesEach, std::string_view what) const {
     const long long left = static_cast<long long>(data_.size() - pos_);
     const long long most = binary_ ? left / bytesEach : left / 2 + 1;
-    if (values > most)
-      fail(t, fmt::format("{} {} values (at least {} bytes), but the file has only {} bytes left",
-                          what, values, binary_ ? values * bytesEach : 2 * values - 1, left));
+    if (values <= most) return;
+    // The least byte count, named only where it is a number (a count from a file may be as large
+    // as a long long holds).
+    const long long each = binary_ ? bytesEach : 2;
+    const std::string least =
+        values <= LLONG_MAX / each
+            ? fmt::format("at least {} bytes", binary_ ? values * each : 2 * values - 1)
+            : fmt::format("{} bytes each", each);
+    fail(t, fmt::format("{} {} values ({}), but the file has only {} bytes left", what, values,
+                        least, left));
   }
   // tuples x components, refused when the file cannot hold them (also before the product could
   // overflow).
@@ -249,6 +256,18 @@ class LegacyParser {
       fail(t, fmt::format("{} {} x {} values, but the file has only {} bytes left", what, tuples,
                           components, left));
     requireRoom(t, tuples * components, bytesEach, what);
+    return tuples * components;
+  }
+
+  // tuples x components bits, refused when the file cannot hold them: binary bits are packed 8 to
+  // a byte (the count is checked before it is rounded up, so that it cannot overflow).
+  long long requireBits(const Token& t, long long tuples, long long components,
+                        std::string_view what) const {
+    const long long left = static_cast<long long>(data_.size() - pos_);
+    const long long mostBits = binary_ ? 8 * left : left / 2 + 1;
+    if (tuples > mostBits / components + 1 || tuples * components > mostBits)
+      fail(t, fmt::format("{} {} x {} bits, but the file has only {} bytes left", what, tuples,
+                          components, left));
     return tuples * components;
   }
 
@@ -301,9 +320,7 @@ class LegacyParser {
       skipStrings(t, requireTuples(t, tuples, components, 1, what), what);
       array.numeric = false;
     } else if (type.kind == DataType::kBit) {
-      // Binary bits are packed 8 to a byte.
-      requireTuples(t, binary_ ? (tuples + 7) / 8 : tuples, components, 1, what);
-      array.values.resize(static_cast<size_t>(tuples * components));
+      array.values.resize(static_cast<size_t>(requireBits(t, tuples, components, what)));
       readBits(tuples * components, what, array.values);
     } else {
       const long long n = requireTuples(t, tuples, components, vtkScalarBytes(type.scalar), what);
