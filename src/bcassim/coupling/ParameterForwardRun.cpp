@@ -23,7 +23,7 @@ void ParameterForwardRun::step() {
   if (statics_)
     statics_->solve(model_, (steps_ + 1) * dt_, state_.x);
   else if (tangent_)
-    integrator_->stepWithTangent(model_, state_, *tangent_);
+    integrator_->stepWithTangent(model_, state_, *tangent_, singlePrecision_);
   else
     integrator_->step(model_, state_);
   ++steps_;

@@ -24,8 +24,12 @@ class ParameterForwardRun {
   // From now on each implicit-Euler step uses this frozen tangent (ImplicitEuler::stepWithTangent:
   // a force assembly and one solve) instead of assembling and solving with the state's own; null:
   // the state's own again. It must have been built for this run's dt (FrozenTangent::build);
-  // static scenes ignore it.
-  void useTangent(std::shared_ptr<const FrozenTangent> tangent) { tangent_ = std::move(tangent); }
+  // static scenes ignore it. singlePrecision: its solves through the factor rounded to float
+  // (ImplicitEuler::stepWithTangent).
+  void useTangent(std::shared_ptr<const FrozenTangent> tangent, bool singlePrecision = false) {
+    tangent_ = std::move(tangent);
+    singlePrecision_ = singlePrecision;
+  }
   const MechanicalModel& model() const { return model_; }
   double dt() const { return dt_; }
   bool isStatic() const { return statics_ != nullptr; }
@@ -43,6 +47,7 @@ class ParameterForwardRun {
   std::unique_ptr<ImplicitEuler> integrator_;
   std::unique_ptr<StaticSolver> statics_;         // static scenes
   std::shared_ptr<const FrozenTangent> tangent_;  // useTangent
+  bool singlePrecision_ = false;
   double dt_;
   int steps_ = 0;
 };

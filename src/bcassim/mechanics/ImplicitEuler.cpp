@@ -172,7 +172,7 @@ void ImplicitEuler::checkEndState(const MechanicalModel& model, const Mechanical
 }
 
 void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalState& s,
-                                    const FrozenTangent& tangent) {
+                                    const FrozenTangent& tangent, bool singlePrecision) {
   const auto start = Clock::now();
   timings_ = {};
   const double h = options_.dt;
@@ -183,7 +183,7 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
                     tangent.dt(), h));
   const MechanicalState from = s;
   try {
-    attemptWithTangent(model, s, tangent);
+    attemptWithTangent(model, s, tangent, singlePrecision);
   } catch (const StepFailure&) {
     throw;
   } catch (const NumericalError& e) {
@@ -195,7 +195,7 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
 }
 
 void ImplicitEuler::attemptWithTangent(const MechanicalModel& model, MechanicalState& s,
-                                       const FrozenTangent& tangent) {
+                                       const FrozenTangent& tangent, bool singlePrecision) {
   const double h = options_.dt;
   const double tNext = s.t + h;
   const DirichletConditions& bc = model.dirichlet;
@@ -227,7 +227,7 @@ void ImplicitEuler::attemptWithTangent(const MechanicalModel& model, MechanicalS
   timings_.assembly += secondsBetween(t0, Clock::now());
 
   t0 = Clock::now();
-  tangent.solve(D, rhs_, dv_, factorWork_);
+  tangent.solve(D, rhs_, dv_, factorWork_, singlePrecision);
   ++timings_.linearSolves;
   timings_.lastSolve = {};
   timings_.solve += secondsBetween(t0, Clock::now());

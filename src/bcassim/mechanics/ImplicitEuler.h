@@ -55,9 +55,12 @@ class ImplicitEuler {
   // model's coefficients), exactly, by a low-rank correction: only the elastic part is frozen.
   // Extra Newton iterations are not run. A step that fails is redone as step() does it, with the
   // state's own tangents (the shared one is for dt only). Throws InputError if the tangent was
-  // built for another dt, StepFailure as step().
+  // built for another dt, StepFailure as step(). singlePrecision: the solve through the factor
+  // rounded to float (FrozenTangent::solve): half its memory traffic, and a velocity change off by
+  // ~1e-6 times the system's condition (relative), for a trajectory that is reset often (the live
+  // real-time model, which adopts each analysis).
   void stepWithTangent(const MechanicalModel& model, MechanicalState& state,
-                       const FrozenTangent& tangent);
+                       const FrozenTangent& tangent, bool singlePrecision = false);
 
   const StepTimings& lastTimings() const { return timings_; }
   const ImplicitEulerOptions& options() const { return options_; }
@@ -75,7 +78,7 @@ class ImplicitEuler {
   void attempt(const MechanicalModel& model, const MechanicalState& from, double h,
                MechanicalState& s);
   void attemptWithTangent(const MechanicalModel& model, MechanicalState& s,
-                          const FrozenTangent& tangent);
+                          const FrozenTangent& tangent, bool singlePrecision);
   // Throws unless the end state of a step is finite and has no inverted element.
   void checkEndState(const MechanicalModel& model, const MechanicalState& s,
                      bool forcesSeenThere) const;

@@ -44,8 +44,11 @@ void RealTimeModel::requestTangent() {
   pending_ = std::async(std::launch::async, [this, previous, dt] {
     // The frames stepped meanwhile come first; the filter behind the camera (nice +10) after it.
     yieldToRealTime(5);
-    return FrozenTangent::build(*tangentModel_, tangentState_, dt,
-                                previous ? &previous->factor() : nullptr);
+    std::shared_ptr<const FrozenTangent> built = FrozenTangent::build(
+        *tangentModel_, tangentState_, dt, previous ? &previous->factor() : nullptr);
+    // Its float copy here, not at the real-time thread's first solve with it.
+    built->factor().prepareSinglePrecision();
+    return built;
   });
 }
 
@@ -97,8 +100,15 @@ void RealTimeModel::advanceTo(int step) {
   if (run_.steps() >= step) return;
   while (run_.steps() < step) {
     takeReadyTangent();
-    const bool young = tangent_ && std::abs(run_.steps() - tangentStep_) < maxTangentAge_;
-    run_.useTangent(young ? tangent_ : nullptr);
+    // While a newer tangent is being built, the one in use serves up to twice as long: an own step
+    // costs several frozen ones and would take the build's core (on the phantom liver in
+    // `serve --async`, the first builds came late and frames 7-12 all stepped with their own).
+    const int age = std::abs(run_.steps() - tangentStep_);
+    const int oldest = pending_.valid() ? 2 * maxTangentAge_ : maxTangentAge_;
+    const bool young = tangent_ && age < oldest;
+    // The factor rounded to float: half the memory traffic of a solve, and a trajectory that
+    // differs from the double one by ~1e-9 of the motion (tests/navigation).
+    run_.useTangent(young ? tangent_ : nullptr, true);
     run_.step();
     if (young) ++framesWithTangent_;
   }

@@ -20,8 +20,9 @@ enum class RealTimeTangent {
   Own,  // eq. 2.16 with the state's own stiffness, assembled and solved every frame
   // eq. 2.16 with a stiffness built a few frames before (ImplicitEuler::stepWithTangent: a force
   // assembly and one solve per frame), on a thread of its own every few frames, at the state and
-  // parameters of the frame it starts from. A frame whose tangent is older than the model's
-  // largest age, or that has none yet, steps with its own: on a nearly incompressible liver a
+  // parameters of the frame it starts from; its solves go through the factor rounded to float. A
+  // frame whose tangent is older than the model's largest age (twice that while a newer one is
+  // being built), or that has none yet, steps with its own: on a nearly incompressible liver a
   // tangent 50 frames old made the step diverge (docs/live.md).
   Frozen,
 };
