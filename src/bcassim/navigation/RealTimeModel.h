@@ -31,7 +31,7 @@ class RealTimeModel {
  public:
   // The scene's model with its prior parameter means, at rest (step 0). With Frozen, the first
   // tangent (at rest, prior) starts building at once; a tangent serves frames up to
-  // maxTangentAge steps from the one it was built at.
+  // maxTangentAge steps from the one it was built at (2 maxTangentAge while a newer one builds).
   // A build is started when the tangent in use will be refreshEvery steps old at the next frame.
   // The defaults keep a build running a third of the time on the 2,150-node liver (one build,
   // ~45 ms, every 3 frames of 33 ms) and the hidden points within ~1 % of the liver's motion of
