@@ -53,6 +53,30 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
       throw std::invalid_argument(
           "MechanicalForecastModel: meanTangent needs a SharedFactorization");
     if (worker_ == 0) buildMeanTangent();
+    if (worker_ == 0 && options_.tangentInBackground) warmUpBuilder();
+  }
+}
+
+// The background builds' thread, started here and made to build three tangents that are thrown
+// away, all alive at the end, as the steps can hold the tangent in use, the one it replaced and
+// the next while it is built. Their memory stays with the thread (BackgroundThread.h; the CLI
+// keeps freed blocks, cli/main.cpp), and the run's builds find it: before, the first ones took
+// 7,000, 3,600 and 1,700 page faults and 110, 67 and 47 ms of CPU on LiTS-3 against 18 faults and
+// ~29 ms later, and the steps that adopted them waited (two warm-up builds left 1,500 faults at
+// the third; docs/benchmarks.md §7). Nothing computed here is kept.
+void MechanicalForecastModel::warmUpBuilder() {
+  builder_ = std::make_unique<BackgroundThread>();
+  if (!shared_->tangent) return;
+  const CholeskyFactor* analysis = &shared_->tangent->factor();
+  const double dt = integrator_.options().dt;
+  const bool statics = statics_ != nullptr;
+  auto build = [&] { return makeTangent(model_, reference_, analysis, dt, statics); };
+  try {
+    std::shared_ptr<const FrozenTangent> first = builder_->submit(build).get();
+    std::shared_ptr<const FrozenTangent> second = builder_->submit(build).get();
+    builder_->submit(build).get();
+  } catch (const NumericalError&) {
+    // The model's own tangent was just built from the same state: the steps will meet this too.
   }
 }
 
@@ -372,7 +396,8 @@ void MechanicalForecastModel::refreshMeanTangent() {
   for (size_t i = 0; i < parameters_.size(); ++i)
     applyParameter(parameters_[i], meanParams_(static_cast<Eigen::Index>(i)), *tangentModel_);
   tangentState_ = reference_;
-  pendingTangent_ = std::async(std::launch::async, [this, analysis = shared_->tangent] {
+  if (!builder_) builder_ = std::make_unique<BackgroundThread>();
+  pendingTangent_ = builder_->submit([this, analysis = shared_->tangent] {
     return makeTangent(*tangentModel_, tangentState_, analysis ? &analysis->factor() : nullptr,
                        integrator_.options().dt, statics_ != nullptr);
   });

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "bcassim/BackgroundThread.h"
 #include "bcassim/assimilation/ForecastModel.h"
 #include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/mechanics/ImplicitEuler.h"
@@ -141,6 +142,7 @@ class MechanicalForecastModel final : public ForecastModel {
   void buildMeanTangent();
   void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);
   void refreshMeanTangent();
+  void warmUpBuilder();
 
   MechanicalModel model_;
   ImplicitEuler integrator_;
@@ -154,11 +156,13 @@ class MechanicalForecastModel final : public ForecastModel {
   std::shared_ptr<SharedFactorization> shared_;
   ForecastStats stats_;
   // Worker 0 with tangentInBackground: the model and mean the pending tangent is built from.
-  // Declared last so that the pending build finishes before they are destroyed.
+  // Declared before builder_, whose destructor lets the pending build finish, so that they
+  // outlive it.
   std::optional<MechanicalModel> tangentModel_;
   Eigen::VectorXd meanParams_;  // the analysed parameters of the last endStep
   MechanicalState tangentState_;
   std::future<std::shared_ptr<const FrozenTangent>> pendingTangent_;
+  std::unique_ptr<BackgroundThread> builder_;  // the thread every background build runs on
 };
 
 }  // namespace bcassim

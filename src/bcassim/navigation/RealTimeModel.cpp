@@ -26,6 +26,9 @@ RealTimeModel::RealTimeModel(const Scene& scene, RealTimeTangent tangent, int ma
       mode_(tangent),
       maxTangentAge_(maxTangentAge),
       refreshEvery_(refreshEvery) {
+  // The frames stepped meanwhile come first; the filter behind the camera (nice +10) after the
+  // builds.
+  builder_.submit([] { yieldToRealTime(5); });
   requestTangent();
 }
 
@@ -41,9 +44,7 @@ void RealTimeModel::requestTangent() {
   // The last tangent's factor gives the build its ordering (FrozenTangent::build).
   std::shared_ptr<const FrozenTangent> previous = tangent_;
   const double dt = run_.dt();
-  pending_ = std::async(std::launch::async, [this, previous, dt] {
-    // The frames stepped meanwhile come first; the filter behind the camera (nice +10) after it.
-    yieldToRealTime(5);
+  pending_ = builder_.submit([this, previous, dt] {
     std::shared_ptr<const FrozenTangent> built = FrozenTangent::build(
         *tangentModel_, tangentState_, dt, previous ? &previous->factor() : nullptr);
     // Its float copy here, not at the real-time thread's first solve with it.

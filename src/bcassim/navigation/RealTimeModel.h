@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "bcassim/BackgroundThread.h"
 #include "bcassim/coupling/ParameterForwardRun.h"
 #include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/scene/Scene.h"
@@ -81,10 +82,13 @@ class RealTimeModel {
   std::shared_ptr<const FrozenTangent> tangent_;
   int tangentStep_ = 0, pendingStep_ = 0;  // the steps their states were at
   int tangentsAdopted_ = 0, framesWithTangent_ = 0;
-  // The copy the pending build reads; declared before it so that the build ends first.
+  // The copy the pending build reads; declared before builder_, whose destructor lets the build
+  // underway end, so that they outlive it.
   std::optional<MechanicalModel> tangentModel_;
   MechanicalState tangentState_;
   std::future<std::shared_ptr<const FrozenTangent>> pending_;
+  // Every build on one thread: its memory stays for the next (BackgroundThread.h).
+  BackgroundThread builder_;
 };
 
 }  // namespace bcassim
