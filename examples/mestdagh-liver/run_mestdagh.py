@@ -124,11 +124,17 @@ def verify(bcassim, data, out, seq):
     return np.array(errors)
 
 
-# --footprint: the force's share over the zone estimated too (tilts and concentration, LoadFootprint).
-FOOTPRINT_PARAMETERS = """
+# --footprint: the force's share over the zone estimated too (LoadFootprint): "full" = tilts and
+# concentration, "tilt" = the tilts only (the force's centre moves, its spread stays the zone's).
+FOOTPRINT_TILTS = """
     - {force: {load: 0, footprint: tilt_u}, mean: 0, stddev: 1, random_walk: 0.02}
-    - {force: {load: 0, footprint: tilt_v}, mean: 0, stddev: 1, random_walk: 0.02}
-    - {force: {load: 0, footprint: concentration}, mean: 0, stddev: 1, random_walk: 0.02}"""
+    - {force: {load: 0, footprint: tilt_v}, mean: 0, stddev: 1, random_walk: 0.02}"""
+FOOTPRINT_PARAMETERS = {
+    "none": "",
+    "tilt": FOOTPRINT_TILTS,
+    "full": FOOTPRINT_TILTS + """
+    - {force: {load: 0, footprint: concentration}, mean: 0, stddev: 1, random_walk: 0.02}""",
+}
 
 TANGENT_SETTINGS = {
     "mean": "tangent: mean\n  tangent_refresh_every: 50",
@@ -136,7 +142,7 @@ TANGENT_SETTINGS = {
 }
 
 
-def register(bcassim, data, out, seq, threads, tangent="own", footprint=False):
+def register(bcassim, data, out, seq, threads, tangent="own", footprint="none"):
     """Force and interior-node errors of the estimation on mesh-remeshed, per frame."""
     work = os.path.join(out, "register", seq.replace("/", "-"))
     inputs = os.path.join(work, "inputs")
@@ -159,7 +165,7 @@ def register(bcassim, data, out, seq, threads, tangent="own", footprint=False):
     with open(scene, "w") as f:
         f.write(fill("register.yaml", data=data, sequence=seq, inputs=inputs, threads=threads,
                      material=material_of(seq), tangent_settings=TANGENT_SETTINGS[tangent],
-                     footprint=FOOTPRINT_PARAMETERS if footprint else ""))
+                     footprint=FOOTPRINT_PARAMETERS[footprint]))
     run_dir = os.path.join(work, "run")
     run([bcassim, "assimilate", scene, "--out", run_dir, "-q", "--no-plots"],
         os.path.join(work, "assimilate.log"))
@@ -209,9 +215,12 @@ def main():
                         help="registration: own (Newton for every sigma point) or mean "
                              "(sigma points linearised about the analysed mean, the mean by "
                              "chord iterations: 25-70x faster, see docs/results.md)")
-    parser.add_argument("--footprint", action="store_true",
-                        help="registration: estimate how the force is shared over the zone too "
-                             "(tilt_u, tilt_v, concentration), not only its three components")
+    parser.add_argument("--footprint", nargs="?", const="full", default="none",
+                        choices=sorted(FOOTPRINT_PARAMETERS),
+                        help="registration: estimate how the force is shared over the zone too, "
+                             "not only its three components: full (tilt_u, tilt_v, "
+                             "concentration; the default of a bare --footprint) or tilt (the "
+                             "tilts only: the force's centre moves, its spread stays)")
     a = parser.parse_args()
     bcassim = os.path.abspath(os.path.join(a.build, "bcassim"))
     data = os.path.abspath(a.data)
