@@ -137,6 +137,11 @@ TEST(AssimilationCli, TangentOptionsNeedTheMeanTangent) {
   const auto dir = freshDir();
   expectError(assimilate(dir, sectionWith("  tangent_background: true\n")),
               "scene.yaml:7: assimilation.tangent_background: only for tangent: mean");
+  expectError(assimilate(dir, sectionWith("  tangent_precision: single\n")),
+              "scene.yaml:7: assimilation.tangent_precision: only for tangent: mean");
+  expectError(assimilate(dir, sectionWith("  tangent: mean\n  tangent_precision: half\n")),
+              "scene.yaml:8: assimilation.tangent_precision: expected one of double, single, got "
+              "'half'");
   expectError(assimilate(dir, sectionWith("  tangent: frozen\n")),
               "scene.yaml:7: assimilation.tangent: expected one of own, mean, got 'frozen'");
 }

@@ -139,6 +139,49 @@ TEST(MechanicalForecastModel, MeanTangentForecastsStepWithTheMeansTangent) {
   }
 }
 
+// tangentSinglePrecision: the same steps through the factor rounded to float — not the same bits
+// (so the float path is taken), within rounding of the double steps' increments.
+TEST(MechanicalForecastModel, SinglePrecisionTangentStepsWithinRoundingOfTheDoubleOnes) {
+  const MechanicalModel model = cylinderModel();
+  const MechanicalState initial = model.restState();
+  const std::vector<ModelParameterTarget> params{YoungModulusTarget{0, "stvk", 0.45}};
+  const ImplicitEulerOptions euler{0.01, 0, 1e-10};
+  MechanicalModel at8000 = model;
+  applyParameter(params[0], 8000.0, at8000);
+  const Eigen::VectorXd E0 = Eigen::VectorXd::Constant(1, 8000.0);
+  const Eigen::VectorXd E1 = Eigen::VectorXd::Constant(1, 9500.0);
+  for (bool background : {false, true}) {
+    ForecastModelOptions o;
+    o.meanTangent = true;
+    o.tangentInBackground = background;
+    ForecastModelOptions single = o;
+    single.tangentSinglePrecision = true;
+    auto sharedD = std::make_shared<SharedFactorization>();
+    auto sharedS = std::make_shared<SharedFactorization>();
+    MechanicalForecastModel d0(at8000, euler, {}, params, initial, o, 0, sharedD);
+    MechanicalForecastModel d1(at8000, euler, {}, params, initial, o, 1, sharedD);
+    MechanicalForecastModel s0(at8000, euler, {}, params, initial, single, 0, sharedS);
+    MechanicalForecastModel s1(at8000, euler, {}, params, initial, single, 1, sharedS);
+    Eigen::VectorXd state = d0.packState(initial), a, b, c, e, p;
+    const Eigen::Index n = state.size() / 2;
+    for (int step = 1; step <= 4; ++step) {
+      d0.forecast(state, E0, a, p);
+      d1.forecast(state, E1, b, p);
+      s0.forecast(state, E0, c, p);
+      s1.forecast(state, E1, e, p);
+      const double increment = (b.head(n) - state.head(n)).norm();
+      const double gap = (e.head(n) - b.head(n)).norm();
+      EXPECT_GT(gap, 0.0) << background << " step " << step;
+      EXPECT_LT(gap, 1e-5 * increment) << background << " step " << step;
+      EXPECT_LT((c.head(n) - a.head(n)).norm(), 1e-5 * (a.head(n) - state.head(n)).norm())
+          << background << " step " << step;
+      // Both filters continue from the double mean, so that the gap does not compound here.
+      for (auto* w : {&d0, &d1, &s0, &s1}) w->endStep(a, E0);
+      state = a;
+    }
+  }
+}
+
 // One tet (legs 10 cm, base fixed) whose apex a load pushes 1.1 times its height through the base
 // in one linear step of 10 ms: its two halves keep it above (tests/mechanics/test_step_recovery).
 // Corotational: the linear law's response along the normal, but an inverted tet fails it.

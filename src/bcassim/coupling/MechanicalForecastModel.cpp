@@ -68,9 +68,7 @@ void MechanicalForecastModel::warmUpBuilder() {
   builder_ = std::make_unique<BackgroundThread>();
   if (!shared_->tangent) return;
   const CholeskyFactor* analysis = &shared_->tangent->factor();
-  const double dt = integrator_.options().dt;
-  const bool statics = statics_ != nullptr;
-  auto build = [&] { return makeTangent(model_, reference_, analysis, dt, statics); };
+  auto build = [&] { return makeTangent(model_, reference_, analysis); };
   try {
     std::shared_ptr<const FrozenTangent> first = builder_->submit(build).get();
     std::shared_ptr<const FrozenTangent> second = builder_->submit(build).get();
@@ -99,20 +97,23 @@ ForecastStats MechanicalForecastModel::takeStats() {
   return out;
 }
 
-// The mean's tangent: the implicit-Euler W of a step of dt, or the stiffness K of a static frame.
+// The mean's tangent: the implicit-Euler W of a step of dt, or the stiffness K of a static frame;
+// with tangentSinglePrecision its factor's float copy too, made here (on the building thread).
 std::shared_ptr<const FrozenTangent> MechanicalForecastModel::makeTangent(
-    const MechanicalModel& model, const MechanicalState& state, const CholeskyFactor* analysis,
-    double dt, bool statics) {
-  return statics ? FrozenTangent::buildStatic(model, state, analysis)
-                 : FrozenTangent::build(model, state, dt, analysis);
+    const MechanicalModel& model, const MechanicalState& state,
+    const CholeskyFactor* analysis) const {
+  if (statics_) return FrozenTangent::buildStatic(model, state, analysis);
+  std::shared_ptr<const FrozenTangent> built =
+      FrozenTangent::build(model, state, integrator_.options().dt, analysis);
+  if (options_.tangentSinglePrecision) built->factor().prepareSinglePrecision();
+  return built;
 }
 
 void MechanicalForecastModel::buildMeanTangent() {
   const CholeskyFactor* analysis = shared_->tangent ? &shared_->tangent->factor() : nullptr;
   shared_->stepsSinceTangent = 0;
   try {
-    adoptTangent(
-        makeTangent(model_, reference_, analysis, integrator_.options().dt, statics_ != nullptr));
+    adoptTangent(makeTangent(model_, reference_, analysis));
   } catch (const NumericalError&) {
     // Static frames do without (every forecast then solves its own equilibrium).
     if (!shared_->tangent && !statics_) throw;  // nothing to fall back on
@@ -305,7 +306,7 @@ void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen
   setParameters(params);
   ++stats_.forecasts;
   if (options_.meanTangent) {
-    integrator_.stepWithTangent(model_, work_, *shared_->tangent);
+    integrator_.stepWithTangent(model_, work_, *shared_->tangent, options_.tangentSinglePrecision);
     const StepTimings& t = integrator_.lastTimings();
     stats_.assemblySeconds += t.assembly;
     stats_.solveSeconds += t.solve;
@@ -357,7 +358,8 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
   // others step with the one it stepped with.
   if (options_.meanTangent && worker_ == 0) shared_->endStepTangent = shared_->tangent;
   if (options_.meanTangent)
-    integrator_.stepWithTangent(model_, reference_, *shared_->endStepTangent);
+    integrator_.stepWithTangent(model_, reference_, *shared_->endStepTangent,
+                                options_.tangentSinglePrecision);
   else
     integrator_.step(model_, reference_);
   stats_.stepRetries += integrator_.lastTimings().retries;
@@ -398,8 +400,7 @@ void MechanicalForecastModel::refreshMeanTangent() {
   tangentState_ = reference_;
   if (!builder_) builder_ = std::make_unique<BackgroundThread>();
   pendingTangent_ = builder_->submit([this, analysis = shared_->tangent] {
-    return makeTangent(*tangentModel_, tangentState_, analysis ? &analysis->factor() : nullptr,
-                       integrator_.options().dt, statics_ != nullptr);
+    return makeTangent(*tangentModel_, tangentState_, analysis ? &analysis->factor() : nullptr);
   });
 }
 

@@ -59,6 +59,7 @@ const std::vector<std::string> kAssimilationKeys = {"filter",
                                                     "tangent",
                                                     "tangent_refresh_every",
                                                     "tangent_background",
+                                                    "tangent_precision",
                                                     "parameters",
                                                     "observations",
                                                     "validation"};
@@ -404,8 +405,11 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
                        FrozenTangent::kMaxCorrectedSprings, c.model.springs.springs().size()));
   s.tangentRefreshEvery = r.integer("tangent_refresh_every", 1, Range::AtLeastOne);
   s.tangentInBackground = r.boolean("tangent_background", false);
+  s.tangentSinglePrecision =
+      r.choice("tangent_precision", "double", {"double", "single"}) == "single";
   r.rejectUnless(s.meanTangent, "tangent_refresh_every", "tangent: mean");
   r.rejectUnless(s.meanTangent, "tangent_background", "tangent: mean");
+  r.rejectUnless(s.meanTangent, "tangent_precision", "tangent: mean");
   if (s.meanTangent && !s.reuseFactorization)
     r.fail("reuse_factorization",
            "false does not go with tangent: mean (every sigma point steps with the mean's one "
