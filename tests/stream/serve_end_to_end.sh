@@ -106,10 +106,14 @@ worst = max(float(r["latency_ms"]) for r in rows)
 lag = max(int(r["lag_frames"]) for r in rows)
 assert sanitized or worst < 250.0, f"an answer took {worst} ms: the real-time side waited for the filter"
 assert lag >= 5, f"the filter was at most {lag} frames behind; it was meant to fall behind"
+# Against the synchronous serve, which analysed the same frames as received (OpenIGTLink's
+# float32 points): the offline run reads the CSV's doubles, and with the liver's float tangent
+# solves (tangent_precision: single) that difference of ~1e-8 m moves a weakly observed spring by
+# ~1e-5 of its value. (The synchronous answers are held to the offline run's above.)
 final = {}
-for name in ("offline", "async"):
+for name in ("served", "async"):
     final[name] = {r["parameter"]: float(r["final_mean"]) for r in csv.DictReader(open(f"{name}/parameters.csv"))}
-for p, v in final["offline"].items():
+for p, v in final["served"].items():
     a = final["async"][p]
     assert abs(a - v) <= 1e-6 * abs(v), f"{p}: asynchronous {a}, synchronous {v}"
 print(f"asynchronous: 40 answers, slowest {worst:.1f} ms while the filter was up to {lag} frames "
