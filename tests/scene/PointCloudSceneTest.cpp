@@ -57,6 +57,20 @@ fs::path cloudDir() {
   return dir;
 }
 
+// tangent_precision chooses the dynamic steps' solves; static frames' chord steps are in float
+// whatever it says, so it is refused there rather than ignored.
+TEST(PointCloudScene, TangentPrecisionIsRefusedWithStaticFrames) {
+  const fs::path dir = cloudDir();
+  const std::string yaml = std::string(kStaticBox) + kLoad + assimilation(kForceX, kCloud) +
+                           "  tangent: mean\n  tangent_precision: double\n";
+  const std::string error = errorOf(yaml, dir);
+  EXPECT_NE(error.find("assimilation.tangent_precision: only for dynamic frames (static ones "
+                       "solve their chord steps in float already)"),
+            std::string::npos)
+      << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+}
+
 TEST(PointCloudScene, ForceParametersAndStaticAssimilationAreRead) {
   const fs::path dir = cloudDir();
   const Scene s = loadSceneFromString(

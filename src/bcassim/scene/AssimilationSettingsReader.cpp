@@ -410,6 +410,8 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   r.rejectUnless(s.meanTangent, "tangent_refresh_every", "tangent: mean");
   r.rejectUnless(s.meanTangent, "tangent_background", "tangent: mean");
   r.rejectUnless(s.meanTangent, "tangent_precision", "tangent: mean");
+  r.rejectUnless(!c.statics, "tangent_precision",
+                 "dynamic frames (static ones solve their chord steps in float already)");
   if (s.meanTangent && !s.reuseFactorization)
     r.fail("reuse_factorization",
            "false does not go with tangent: mean (every sigma point steps with the mean's one "
