@@ -53,7 +53,9 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
       throw std::invalid_argument(
           "MechanicalForecastModel: meanTangent needs a SharedFactorization");
     if (worker_ == 0) buildMeanTangent();
-    if (worker_ == 0 && options_.tangentInBackground) warmUpBuilder();
+    // Static frames give a build N frames before they adopt it (refreshMeanTangent), so a slow
+    // first build costs them no wait; the warm-up would cost three stiffness factorisations.
+    if (worker_ == 0 && options_.tangentInBackground && !statics_) warmUpBuilder();
   }
 }
 

@@ -57,8 +57,8 @@ class ImplicitEuler {
   // state's own tangents (the shared one is for dt only). Throws InputError if the tangent was
   // built for another dt, StepFailure as step(). singlePrecision: the solve through the factor
   // rounded to float (FrozenTangent::solve): half its memory traffic, and a velocity change off by
-  // ~1e-6 times the system's condition (relative), for a trajectory that is reset often (the live
-  // real-time model, which adopts each analysis).
+  // ~1e-6 times the system's condition (relative); for steps whose start is reset often (the live
+  // real-time model, which adopts each analysis; a filter's sigma points, from each analysed mean).
   void stepWithTangent(const MechanicalModel& model, MechanicalState& state,
                        const FrozenTangent& tangent, bool singlePrecision = false);
 
