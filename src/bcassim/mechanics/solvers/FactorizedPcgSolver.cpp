@@ -33,12 +33,13 @@ void FactorizedPcgSolver::setMatrix(const SparseMatrix& A) {
   if (!stale && due && policy_.background) {
     if (!pending_.valid()) {
       std::shared_ptr<CholeskyFactor> next = factor_->cloneAnalysis();
-      pending_ = std::async(std::launch::async,
-                            [next, copy = SparseMatrix(A), single = policy_.singlePrecision] {
-                              next->factorize(copy);
-                              if (single) next->prepareSinglePrecision();
-                              return next;
-                            });
+      if (!refresher_) refresher_ = std::make_unique<BackgroundThread>();
+      pending_ =
+          refresher_->submit([next, copy = SparseMatrix(A), single = policy_.singlePrecision] {
+            next->factorize(copy);
+            if (single) next->prepareSinglePrecision();
+            return next;
+          });
     }
     matricesSinceFactorization_ = 1;
   } else if (stale || due) {

@@ -5,6 +5,7 @@
 #include <future>
 #include <memory>
 
+#include "bcassim/BackgroundThread.h"
 #include "bcassim/mechanics/solvers/CholeskyFactor.h"
 #include "bcassim/mechanics/solvers/ConjugateGradient.h"
 #include "bcassim/mechanics/solvers/LinearSolver.h"
@@ -67,6 +68,8 @@ class FactorizedPcgSolver final : public LinearSolver {
   // Adopts a background factorisation once it is ready.
   void adoptFinishedRefresh();
   std::future<std::shared_ptr<CholeskyFactor>> pending_;
+  // policy.background: every refresh on one thread, started at the first (BackgroundThread.h).
+  std::unique_ptr<BackgroundThread> refresher_;
 };
 
 }  // namespace bcassim
