@@ -1,10 +1,11 @@
 // The full-state UKF's dense algebra on R ranks, for the MPI executor's cost model
-// (docs/benchmarks.md §8): the Gram matrix of S deviations of n rows and the Cholesky factor of
-// an n x n covariance, alone (R = 1: the system BLAS/LAPACK, as the threaded filter runs them)
-// or shared as `assimilate --mpi` shares them (SharedGram.h, ScalapackCholesky.h), with the
-// bare MPI_Reduce of the n x n matrix's lower triangle. Medians of 5 after one warm-up; the shared
-// results are checked against rank 0's own (largest entry difference over the largest entry).
-// Usage: mpirun -np R bench_dense_algebra [n=2791] [S=2792]
+// (docs/benchmarks.md §8): the step's parts that touch the n x n covariance, alone (rank 0's
+// BLAS/LAPACK, as the threaded filter runs them) and kept over the ranks as `assimilate --mpi`
+// keeps it (UkfCovarianceShare: the factor in place, each rank's factor columns and sigma points,
+// the mean and the Gram matrix reduce-scattered into the pieces, the Kalman update piece by
+// piece). Medians of 5 after one warm-up, each the slowest rank's (a barrier after each); the
+// kept results are checked against the lone ones (largest entry difference over the largest).
+// Usage: mpirun -np R bench_dense_algebra [n=2791] [S=n+1 simplex points] [m=45 observations]
 #include <mpi.h>
 
 #include <Eigen/Core>
@@ -15,8 +16,8 @@
 #include <vector>
 
 #include "bcassim/assimilation/LargeDenseKernels.h"
-#include "bcassim/distributed/ScalapackCholesky.h"
-#include "bcassim/distributed/SharedGram.h"
+#include "bcassim/assimilation/SimplexSigmaPoints.h"
+#include "bcassim/distributed/UkfCovarianceShare.h"
 
 namespace {
 
@@ -33,6 +34,11 @@ double medianSeconds(const std::function<void()>& run) {
   return times[times.size() / 2];
 }
 
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 double normwiseDifference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(a.cwiseAbs().maxCoeff(), 1e-300);
 }
@@ -45,82 +51,86 @@ int main(int argc, char** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   const int n = argc > 1 ? std::atoi(argv[1]) : 2791;
-  const int S = argc > 2 ? std::atoi(argv[2]) : 2792;
-  // The same pseudo-random deviations on every rank (Eigen's Random with one seed).
+  const int m = argc > 2 ? std::atoi(argv[2]) : 45;
+  const bcassim::SigmaPointSet set = bcassim::simplexSigmaPoints(n);
+  const int S = static_cast<int>(set.count());
+  const Eigen::VectorXd& w = set.weights;
+  // The same pseudo-random forecasts on every rank (Eigen's Random with one seed).
   std::srand(7);
-  const Eigen::MatrixXd D = 1e-3 * Eigen::MatrixXd::Random(n, S);
-  const Eigen::VectorXd w = Eigen::VectorXd::Constant(S, 1.0 / S);
-  const Eigen::MatrixXd deviations = D.colwise() - D * w;  // centred, as the filter's
-  std::vector<bcassim::ColumnBlock> blocks(static_cast<size_t>(size));
-  for (int r = 0, first = 0; r < size; ++r) {
-    const int count = S / size + (r < S % size ? 1 : 0);
-    blocks[static_cast<size_t>(r)] = {first, count};
-    first += count;
-  }
-  const bcassim::ColumnBlock mine = blocks[static_cast<size_t>(rank)];
-  const Eigen::MatrixXd myForecasts = deviations.middleCols(mine.first, mine.count);
-  const Eigen::VectorXd myWeights = w.segment(mine.first, mine.count);
+  const Eigen::MatrixXd F = 1e-3 * Eigen::MatrixXd::Random(n, S);
+  const Eigen::MatrixXd H = Eigen::MatrixXd::Random(m, S);
+  const Eigen::VectorXd x = F * w;
+  const Eigen::MatrixXd deviations = F.colwise() - x;
 
-  Eigen::MatrixXd alone, shared;
-  bcassim::SharedGramWorkspace workspace;
-  Eigen::VectorXd packed;
-  if (rank == 0) bcassim::weightedGram(deviations, w, alone);
-  double gram = 0;
-  if (size == 1) {
-    gram = medianSeconds([&] { bcassim::weightedGram(deviations, w, shared); });
-  } else {
-    gram = medianSeconds([&] {
-      if (rank == 0) {
-        shared.resize(n, n);
-        bcassim::reduceSharedGram(deviations, w, blocks, shared, packed);
-      } else {
-        bcassim::contributeBlockGram(myForecasts, myWeights, 1.0, n, workspace);
-      }
-    });
-  }
-  // The reduction alone, of what travels: the lower triangle.
-  const int triangle = n * (n + 1) / 2;
-  Eigen::VectorXd buffer = Eigen::VectorXd::Zero(triangle);
-  const double reduce = size == 1 ? 0.0 : medianSeconds([&] {
-    MPI_Reduce(rank == 0 ? MPI_IN_PLACE : buffer.data(), rank == 0 ? buffer.data() : nullptr,
-               triangle, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+  // Alone, on rank 0 (the others wait at the barriers).
+  Eigen::MatrixXd alone, Lalone, points, updated;
+  const double gramAlone = medianSeconds([&] {
+    if (rank == 0) bcassim::weightedGram(deviations, w, alone);
   });
-
-  // A covariance like the filter's: the Gram matrix plus a small diagonal.
   Eigen::MatrixXd P = alone;
   if (rank == 0) P.diagonal().array() += 1e-9;
-  Eigen::MatrixXd Lalone, Lshared(n, n);
-  if (rank == 0) bcassim::choleskyLower(P, Lalone);
-  bcassim::ScalapackCholesky scalapack(size);
-  const double cholesky = medianSeconds([&] {
-    if (size == 1) {
-      bcassim::choleskyLower(P, Lshared);
-    } else {
-      scalapack.factor(n, rank == 0 ? P.data() : nullptr, rank == 0 ? Lshared.data() : nullptr);
+  const double choleskyAlone = medianSeconds([&] {
+    if (rank == 0) bcassim::choleskyLower(P, Lalone);
+  });
+  const double pointsAlone = medianSeconds([&] {
+    if (rank == 0) points = set.points(x, Lalone);
+  });
+  const double updateAlone = medianSeconds([&] {
+    if (rank == 0) {
+      Eigen::MatrixXd G;
+      bcassim::multiply(H, deviations.transpose(), G);
+      updated = P;
+      bcassim::subtractGram(G, updated);
     }
   });
-  // ScaLAPACK itself, also on one rank: its pdpotrf and the moves of A and L (medians).
-  std::vector<double> moves, factors, packs;
-  for (int repeat = 0; repeat < 5; ++repeat) {
-    Eigen::MatrixXd L(n, n);
-    scalapack.factor(n, rank == 0 ? P.data() : nullptr, rank == 0 ? L.data() : nullptr);
-    moves.push_back(scalapack.lastMoveSeconds());
-    factors.push_back(scalapack.lastFactorSeconds());
-    packs.push_back(scalapack.lastPackSeconds());
-  }
-  std::sort(packs.begin(), packs.end());
-  std::sort(moves.begin(), moves.end());
-  std::sort(factors.begin(), factors.end());
-  if (rank == 0) {
-    Lshared.triangularView<Eigen::StrictlyUpper>().setZero();
+
+  // Kept over the ranks.
+  bcassim::UkfCovarianceShare share(size, bcassim::compactColumns(set), w);
+  const bcassim::ColumnBlock mine = share.block();
+  std::vector<double> factor, pdpotrf, columns, own, products, reduce;
+  Eigen::MatrixXd X;
+  const double draw = medianSeconds([&] {
+    share.covariance().scatter(rank == 0 ? P.data() : nullptr);
+    MPI_Barrier(MPI_COMM_WORLD);
+    bcassim::RepairLog log;
+    X = share.drawPoints(x, 1.0, log);
+    factor.push_back(share.times().factor);
+    pdpotrf.push_back(share.times().pdpotrf);
+    columns.push_back(share.times().columns);
+    own.push_back(share.times().points);
+  });
+  const double pointsError =
+      rank == 0 ? normwiseDifference(points.middleCols(mine.first, mine.count).colwise() - x,
+                                     X.colwise() - x)
+                : 0.0;
+  const double moments = medianSeconds([&] {
+    share.keepForecasts(F.middleCols(mine.first, mine.count));
+    share.moments(1.0);
+    products.push_back(share.times().gramProducts);
+    reduce.push_back(share.times().gramReduce);
+  });
+  Eigen::MatrixXd kept(rank == 0 ? n : 0, rank == 0 ? n : 0);
+  share.covariance().gather(rank == 0 ? kept.data() : nullptr);
+  const double gramError = rank == 0 ? normwiseDifference(alone, kept) : 0.0;
+  share.covariance().scatter(rank == 0 ? P.data() : nullptr);
+  share.covariance().keep();
+  const double correct = medianSeconds([&] {
+    share.covariance().restore();
+    share.correct(rank == 0 ? &H : nullptr, m);
+  });
+  share.covariance().gather(rank == 0 ? kept.data() : nullptr);
+  const double updateError = rank == 0 ? normwiseDifference(updated, kept) : 0.0;
+  if (rank == 0)
     std::printf(
-        "dense algebra: ranks %d, n %d, S %d: gram %.2f ms, reduce %.2f ms, "
-        "cholesky %.2f ms (ScaLAPACK: pdpotrf %.2f ms, moving A and L %.2f ms, of which "
-        "packing %.2f ms); "
-        "shared vs alone: gram %.1e, factor %.1e\n",
-        size, n, S, 1e3 * gram, 1e3 * reduce, 1e3 * cholesky, 1e3 * factors[2], 1e3 * moves[2],
-        1e3 * packs[2], normwiseDifference(alone, shared), normwiseDifference(Lalone, Lshared));
-  }
+        "dense algebra: ranks %d, n %d, S %d, m %d: alone (rank 0) gram %.2f ms, cholesky %.2f ms, "
+        "sigma points %.2f ms, update %.2f ms; kept over the ranks: draw %.2f ms (factor %.2f, "
+        "pdpotrf %.2f, factor's columns %.2f, own points %.2f), mean and gram %.2f ms (products "
+        "%.2f, reduce-scatter %.2f), correction %.2f ms; kept vs alone: gram %.1e, points %.1e, "
+        "update %.1e\n",
+        size, n, S, m, 1e3 * gramAlone, 1e3 * choleskyAlone, 1e3 * pointsAlone, 1e3 * updateAlone,
+        1e3 * draw, 1e3 * median(factor), 1e3 * median(pdpotrf), 1e3 * median(columns),
+        1e3 * median(own), 1e3 * moments, 1e3 * median(products), 1e3 * median(reduce),
+        1e3 * correct, gramError, pointsError, updateError);
   MPI_Finalize();
   return 0;
 }

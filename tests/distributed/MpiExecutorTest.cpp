@@ -140,9 +140,9 @@ std::filesystem::path mpiSceneDir(const std::string& section) {
   return dir;
 }
 
-// `normwise`: b's filter shared its dense algebra over ranks (a full-state UKF: the Gram matrix
-// summed in another order, ScaLAPACK's Cholesky), so its state differs from a's by round-off,
-// relative to each matrix.
+// `normwise`: b's filter kept its covariance over the ranks (a full-state UKF: the mean and the
+// Gram matrix summed in another order, ScaLAPACK's Cholesky, each rank's sigma points from its
+// columns of the factor), so its state differs from a's by round-off, relative to each matrix.
 void expectSameRuns(const std::filesystem::path& dir, const std::string& a, const std::string& b,
                     bool normwise = false) {
   EXPECT_EQ(readText(dir / a / "estimates.csv"), readText(dir / b / "estimates.csv")) << a << b;
@@ -153,8 +153,8 @@ void expectSameRuns(const std::filesystem::path& dir, const std::string& a, cons
               b.c_str(), difference, normwise ? "normwise" : "entrywise");
 }
 
-// With `sharedAlgebra` (the UKF), runs on more than one rank are compared normwise.
-void expectRanksMatchThreads(const std::string& section, bool sharedAlgebra = false) {
+// With `keptOverRanks` (the UKF), runs on more than one rank are compared normwise.
+void expectRanksMatchThreads(const std::string& section, bool keptOverRanks = false) {
   const auto dir = mpiSceneDir(section);
   const std::string run = "assimilate estimate.yaml -q --no-plots ";
   ASSERT_EQ(runBcassim(dir, run + "--out t1 --threads 1").exitCode, 0);
@@ -170,11 +170,12 @@ void expectRanksMatchThreads(const std::string& section, bool sharedAlgebra = fa
   ASSERT_EQ(twoByTwo.exitCode, 0) << twoByTwo.err;
   expectSameRuns(dir, "t1", "t2");
   expectSameRuns(dir, "t1", "m1");
-  expectSameRuns(dir, "t1", "m3", sharedAlgebra);
-  expectSameRuns(dir, "t1", "m2x2", sharedAlgebra);
-  if (sharedAlgebra) {
-    // Rank 0 says what it shared: a Gram matrix and at least one Cholesky factor per step.
-    EXPECT_NE(three.out.find("MPI: shared algebra per step: Gram matrix "), std::string::npos)
+  expectSameRuns(dir, "t1", "m3", keptOverRanks);
+  expectSameRuns(dir, "t1", "m2x2", keptOverRanks);
+  if (keptOverRanks) {
+    // Rank 0 says the covariance was kept over the ranks, and what each part cost.
+    EXPECT_NE(three.out.find("MPI: covariance kept over the ranks, rank 0 per step: Cholesky "),
+              std::string::npos)
         << three.out;
   }
 }

@@ -5,18 +5,16 @@
 #include <cmath>
 
 #include "bcassim/Error.h"
+#include "bcassim/assimilation/LargeDenseKernels.h"
 
 namespace bcassim {
 
-Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log,
-                                   DenseAlgebra* algebra) {
+Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log) {
   if (!P.allFinite()) throw NumericalError("covariance has non-finite entries");
-  DenseAlgebra here;
-  DenseAlgebra& kernels = algebra != nullptr ? *algebra : here;
   Eigen::MatrixXd L;
   // A diagonal entry <= 0 fails any Cholesky factorisation at its pivot: straight to the repair
   // (the same result, one factorisation less; a full-state UKF's fixed nodes have zero variance).
-  if ((P.diagonal().array() > 0.0).all() && kernels.choleskyLower(P, L)) return L;
+  if ((P.diagonal().array() > 0.0).all() && choleskyLower(P, L)) return L;
 
   const Eigen::Index n = P.rows();
   Eigen::MatrixXd S = 0.5 * (P + P.transpose());
@@ -26,7 +24,7 @@ Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log,
   for (double jitter = 1e-10 * scale; jitter <= 1e10 * scale; jitter *= 10) {
     S.diagonal().array() += jitter - added;
     added = jitter;
-    if (kernels.choleskyLower(S, L)) {
+    if (choleskyLower(S, L)) {
       ++log.repairs;
       log.largestJitter = std::max(log.largestJitter, jitter);
       return L;

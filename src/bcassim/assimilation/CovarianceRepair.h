@@ -3,8 +3,6 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "bcassim/assimilation/DenseAlgebra.h"
-
 namespace bcassim {
 
 // Repairs made during one filter step, reported rather than printed.
@@ -16,9 +14,7 @@ struct RepairLog {
 // Lower-triangular C with C C^T = P. If the Cholesky factorisation of P fails, P is symmetrised and
 // jitter * I is added, jitter starting at 1e-10 times the mean diagonal and growing x10 until it
 // factorises; the repair is recorded in `log`. Throws NumericalError if P is not finite or no
-// jitter up to 1e10 times the mean diagonal helps. The factorisations run on `algebra` (null: this
-// process's BLAS).
-Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log,
-                                   DenseAlgebra* algebra = nullptr);
+// jitter up to 1e10 times the mean diagonal helps.
+Eigen::MatrixXd choleskyWithRepair(const Eigen::MatrixXd& P, RepairLog& log);
 
 }  // namespace bcassim

@@ -2,8 +2,9 @@
 // ForecastEnsemble keeps the first columns, the distribution the others. No MPI here.
 #pragma once
 #include <Eigen/Core>
+#include <memory>
 
-#include "bcassim/assimilation/DenseAlgebra.h"
+#include "bcassim/assimilation/UkfCovariance.h"
 
 namespace bcassim {
 
@@ -28,10 +29,12 @@ class ForecastDistribution {
   virtual void receive(Eigen::MatrixXd& forecasts, Eigen::MatrixXd& observables) = 0;
   // The step ended at the analysed mean (unconstrained): the other processes' models move on.
   virtual void endStep(const Eigen::VectorXd& mean) = 0;
-  // The filter's dense algebra shared with the other processes (they hold the last forecasts'
-  // columns they computed), or null: the filter runs it alone. Calls come between receive() and
-  // endStep() for the Gram matrix, anywhere between steps for Cholesky factors.
-  virtual DenseAlgebra* sharedAlgebra() { return nullptr; }
+  // A full-state UKF's covariance kept by this process and the others together (each forms and
+  // forecasts its own sigma points of `sigma` from its share of the factor), or null: the filter
+  // keeps it here and the columns travel through send() and receive().
+  virtual std::unique_ptr<UkfCovariance> ukfCovariance(const SigmaPointSet& /*sigma*/) {
+    return nullptr;
+  }
 };
 
 }  // namespace bcassim

@@ -58,6 +58,20 @@ void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& 
   // The other processes' columns leave first, so that they run while these do.
   const int s = distribution_ ? distribution_->localColumns(columns) : columns;
   if (s < columns) distribution_->send(points);
+  forecastColumns(s, points, forecasts, observables);
+  if (s < columns) distribution_->receive(forecasts, observables);
+}
+
+void ForecastEnsemble::forecastHere(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
+                                    Eigen::MatrixXd& observables) {
+  forecasts.resize(points.rows(), points.cols());
+  observables.resize(observableSize_, points.cols());
+  forecastColumns(static_cast<int>(points.cols()), points, forecasts, observables);
+}
+
+// Columns [0, s) of `points`, on the executor's workers.
+void ForecastEnsemble::forecastColumns(int s, const Eigen::MatrixXd& points,
+                                       Eigen::MatrixXd& forecasts, Eigen::MatrixXd& observables) {
   auto task = [&](int t, int worker) { forecastColumn(t, worker, points, forecasts, observables); };
   if (firstAlone_ && s > 1) {
     // Alone and on worker 0, so that the others can reuse what it factorised (Alg. 4/5).
@@ -66,7 +80,6 @@ void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& 
   } else {
     executor_.run(s, task);
   }
-  if (s < columns) distribution_->receive(forecasts, observables);
 }
 
 Observation ForecastEnsemble::predict(const Observation& frame, const Eigen::VectorXd& weights,

@@ -34,6 +34,10 @@ class ForecastEnsemble {
   // the other processes, the same way.
   void forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
                 Eigen::MatrixXd& observables);
+  // The same for every column here, whatever the distribution: a process forecasting the sigma
+  // points it formed itself (a distributed UKF covariance, UkfCovariance.h).
+  void forecastHere(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
+                    Eigen::MatrixXd& observables);
 
   // After forecast(), for a frame with data: linearises the observation operator at the mean of
   // the observables (column weights `weights`, summing to 1) and predicts every column's
@@ -52,6 +56,8 @@ class ForecastEnsemble {
   void endStep(const Eigen::VectorXd& mean);
 
  private:
+  void forecastColumns(int s, const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
+                       Eigen::MatrixXd& observables);
   void forecastColumn(int t, int worker, const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
                       Eigen::MatrixXd& observables);
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -59,6 +60,82 @@ Eigen::MatrixXd SigmaPointSet::covarianceOf(const Eigen::MatrixXd& X) const {
   Eigen::MatrixXd P;
   weightedGram(D, weights, P);
   return P;
+}
+
+SigmaPointColumns compactColumns(const SigmaPointSet& set) {
+  if (set.structure == UnitStructure::Dense)
+    throw std::logic_error("compactColumns: a dense unit matrix has no compact form");
+  const Eigen::Index r = set.unit.rows(), s = set.unit.cols();
+  SigmaPointColumns c;
+  c.structure = set.structure;
+  c.rows = r;
+  c.ownCoefficient.setZero(s);
+  c.ownRow.assign(static_cast<size_t>(s), -1);
+  if (set.structure == UnitStructure::Simplex) {
+    c.suffixCoefficient = set.unit.col(0);
+    for (Eigen::Index k = 1; k < s; ++k) {
+      c.ownRow[static_cast<size_t>(k)] = k - 1;
+      c.ownCoefficient(k) = set.unit(k - 1, k);
+    }
+  } else {
+    for (Eigen::Index k = 0; k < s; ++k) {
+      const Eigen::Index row = set.nonzeroRow[static_cast<size_t>(k)];
+      c.ownRow[static_cast<size_t>(k)] = row;
+      if (row >= 0) c.ownCoefficient(k) = set.unit(row, k);
+    }
+  }
+  return c;
+}
+
+std::vector<Eigen::Index> SigmaPointColumns::factorColumns(Eigen::Index first,
+                                                           Eigen::Index count) const {
+  std::vector<Eigen::Index> out;
+  if (count <= 0) return out;
+  if (structure == UnitStructure::Simplex) {
+    // Column k reads S_(k-1) and S_k.. S_(r-1); the suffix past the block stands for the rest.
+    for (Eigen::Index i = std::max<Eigen::Index>(first - 1, 0); i < std::min(first + count, rows);
+         ++i)
+      out.push_back(i);
+    return out;
+  }
+  for (Eigen::Index k = first; k < first + count; ++k)
+    if (ownRow[static_cast<size_t>(k)] >= 0) out.push_back(ownRow[static_cast<size_t>(k)]);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+Eigen::MatrixXd SigmaPointColumns::points(const Eigen::VectorXd& mean, Eigen::Index first,
+                                          Eigen::Index count, const Eigen::MatrixXd& columns,
+                                          const Eigen::VectorXd& suffix) const {
+  const std::vector<Eigen::Index> read = factorColumns(first, count);
+  if (columns.cols() != static_cast<Eigen::Index>(read.size()) || columns.rows() != mean.size())
+    throw std::invalid_argument("SigmaPointColumns::points: the factor's columns do not fit");
+  // Where factor column i sits in `columns`.
+  const auto at = [&](Eigen::Index i) {
+    return std::lower_bound(read.begin(), read.end(), i) - read.begin();
+  };
+  Eigen::MatrixXd X(mean.size(), count);
+  if (structure == UnitStructure::Simplex) {
+    if (suffix.size() != mean.size())
+      throw std::invalid_argument("SigmaPointColumns::points: simplex points need the suffix");
+    Eigen::VectorXd sum = suffix;
+    for (Eigen::Index k = first + count - 1; k >= first; --k) {
+      if (k < rows) sum += suffixCoefficient(k) * columns.col(at(k));
+      X.col(k - first) = sum;
+      if (k >= 1) X.col(k - first) += ownCoefficient(k) * columns.col(at(k - 1));
+    }
+  } else {
+    for (Eigen::Index k = first; k < first + count; ++k) {
+      const Eigen::Index row = ownRow[static_cast<size_t>(k)];
+      if (row < 0)
+        X.col(k - first).setZero();
+      else
+        X.col(k - first) = ownCoefficient(k) * columns.col(at(row));
+    }
+  }
+  X.colwise() += mean;
+  return X;
 }
 
 SigmaPointSet makeSigmaPoints(SigmaPointKind kind, Eigen::Index n) {

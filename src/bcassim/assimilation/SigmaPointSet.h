@@ -40,6 +40,28 @@ struct SigmaPointSet {
   Eigen::MatrixXd covarianceOf(const Eigen::MatrixXd& X) const;
 };
 
+// A structured set's unit matrix in O(n + s) numbers: what forming some columns of points() from
+// only the factor's columns they read takes (distributed/ hands it to processes that form their
+// own sigma points from their share of a distributed factor). Not for UnitStructure::Dense.
+struct SigmaPointColumns {
+  UnitStructure structure = UnitStructure::Simplex;
+  Eigen::Index rows = 0;               // r = unit.rows()
+  Eigen::VectorXd suffixCoefficient;   // Simplex: unit(i, 0), i < r (the suffix sums' terms)
+  Eigen::VectorXd ownCoefficient;      // per column k: Simplex unit(k-1, k), else unit(row, k)
+  std::vector<Eigen::Index> ownRow;    // per column k: the factor column of that term, -1 none
+
+  // The factor's columns that points k in [first, first + count) read, ascending.
+  std::vector<Eigen::Index> factorColumns(Eigen::Index first, Eigen::Index count) const;
+  // Points [first, first + count) of SigmaPointSet::points(mean, S): `columns` holds the factor
+  // S's columns factorColumns(first, count) in that order, and, for Simplex, `suffix` the sum
+  // over i >= first + count (i < r) of suffixCoefficient(i) S_i (empty otherwise).
+  Eigen::MatrixXd points(const Eigen::VectorXd& mean, Eigen::Index first, Eigen::Index count,
+                         const Eigen::MatrixXd& columns, const Eigen::VectorXd& suffix) const;
+};
+
+// The set's SigmaPointColumns; throws std::logic_error for a Dense set.
+SigmaPointColumns compactColumns(const SigmaPointSet& set);
+
 // The set of `kind` in dimension n >= 1 (star with its default kappa).
 SigmaPointSet makeSigmaPoints(SigmaPointKind kind, Eigen::Index n);
 

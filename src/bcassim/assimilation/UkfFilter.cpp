@@ -8,7 +8,7 @@
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
 #include "bcassim/assimilation/CovarianceRepair.h"
-#include "bcassim/assimilation/LargeDenseKernels.h"
+#include "bcassim/assimilation/LocalUkfCovariance.h"
 #include "bcassim/assimilation/ObservedSubset.h"
 #include "bcassim/assimilation/StarSigmaPoints.h"
 
@@ -17,10 +17,7 @@ UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
                      UkfOptions options)
     : ensemble_(std::move(layout), std::move(models), executor, options.firstSigmaPointAlone,
                 options.observation, options.distribution),
-      options_(std::move(options)),
-      algebra_(options_.distribution != nullptr && options_.distribution->sharedAlgebra() != nullptr
-                   ? options_.distribution->sharedAlgebra()
-                   : &localAlgebra_) {
+      options_(std::move(options)) {
   const StochasticState& s = ensemble_.layout();
   if (options_.relinearizations < 0) throw InputError("relinearizations must be >= 0");
   const Eigen::Index n = s.size();
@@ -32,8 +29,10 @@ UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
                                  options_.processVariance.size(), n));
   sigma_ = options_.sigmaPoints == SigmaPointKind::Star ? starSigmaPoints(n, options_.starKappa)
                                                         : makeSigmaPoints(options_.sigmaPoints, n);
+  if (options_.distribution != nullptr) P_ = options_.distribution->ukfCovariance(sigma_);
+  if (!P_) P_ = std::make_unique<LocalUkfCovariance>();
   x_ = s.initialMean();
-  P_ = s.initialStddev().array().square().matrix().asDiagonal();
+  P_->assign(s.initialStddev().array().square().matrix().asDiagonal());
 }
 
 void UkfFilter::reset(Eigen::VectorXd mean, Eigen::MatrixXd covariance) {
@@ -41,12 +40,12 @@ void UkfFilter::reset(Eigen::VectorXd mean, Eigen::MatrixXd covariance) {
   if (mean.size() != n || covariance.rows() != n || covariance.cols() != n)
     throw InputError(fmt::format("UKF state must have {} entries and a {}x{} covariance", n, n, n));
   x_ = std::move(mean);
-  P_ = std::move(covariance);
+  P_->assign(covariance);
 }
 
 Eigen::MatrixXd UkfFilter::covarianceFactor() const {
   RepairLog ignored;
-  return choleskyWithRepair(P_, ignored);
+  return choleskyWithRepair(P_->matrix(), ignored);
 }
 
 FilterStepReport UkfFilter::step(const Observation& y) {
@@ -58,25 +57,20 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   // so Q enters before the sigma points are drawn, as in the Kalman filter's P + Q (with F = Id).
   const bool noiseFirst =
       options_.processVariance.size() != 0 && ensemble_.layout().physicalSize() == 0;
-  if (noiseFirst) P_.diagonal() += options_.processVariance;
+  if (noiseFirst) P_->addToDiagonal(options_.processVariance);
 
   // Prediction (Alg. 1 lines 9-14).
-  Eigen::MatrixXd factor = choleskyWithRepair(P_, repairs, algebra_);
-  factor *= options_.spread;  // in place: no second n x n matrix
-  const Eigen::MatrixXd X = sigma_.points(x_, factor);
-  Eigen::MatrixXd Xf, O, Z;
+  Eigen::MatrixXd O, Z;
   const auto forecastStart = Clock::now();
-  ensemble_.forecast(X, Xf, O);
+  P_->forecast(ensemble_, sigma_, x_, options_.spread, O, repairs);
   report.seconds.forecast = secondsSince(forecastStart);
 
   const auto correctionStart = Clock::now();
   const Eigen::VectorXd& w = sigma_.weights;
-  x_ = sigma_.meanOf(Xf);
   const double unscale = 1.0 / options_.spread;
-  const Eigen::MatrixXd dX = unscale * (Xf.colwise() - x_);
-  algebra_->weightedGram(dX, w, unscale, P_);
+  P_->moments(sigma_, options_.spread, x_);
   if (options_.processVariance.size() != 0 && !noiseFirst)
-    P_.diagonal() += options_.processVariance;
+    P_->addToDiagonal(options_.processVariance);
   Observation used = ensemble_.predict(y, w, O, Z);
 
   // Correction (Alg. 1 lines 17-24) with the present entries only. The update K nu = Pxz Pz^-1 nu
@@ -85,30 +79,27 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   // the operator again before correcting from the same forecast.
   const int passes = options_.relinearizations;
   const Eigen::VectorXd forecastMean = x_;
-  const Eigen::MatrixXd forecastP = passes > 0 ? P_ : Eigen::MatrixXd();
+  if (passes > 0) P_->keep();
   Eigen::VectorXd previousMean;
   for (int pass = 0;; ++pass) {
     const ObservedSubset obs(used, Z.rows());
     if (obs.empty()) break;  // after a relinearisation: the last pass stands
     if (pass > 0) {
       x_ = forecastMean;
-      P_ = forecastP;
+      P_->restore();
     }
     const Eigen::MatrixXd Zs = obs.selectRows(Z);
     const Eigen::VectorXd zMean = Zs * w;
     const Eigen::MatrixXd dZ = unscale * (Zs.colwise() - zMean);
-    Eigen::MatrixXd Pxz;
-    multiply(dX, w.asDiagonal() * dZ.transpose(), Pxz);
     const Eigen::MatrixXd Pz = dZ * w.asDiagonal() * dZ.transpose() + obs.covariance();
     const Eigen::VectorXd innovation = obs.values() - zMean;
     // With Pz = C C^T and G = C^-1 Pxz^T: K nu = G^T C^-1 nu and K Pxz^T = G^T G, which keeps the
     // corrected covariance symmetric by construction.
     const Eigen::MatrixXd C = choleskyWithRepair(Pz, repairs);
     const auto Cl = C.triangularView<Eigen::Lower>();
-    const Eigen::MatrixXd G = Cl.solve(Pxz.transpose());
+    const Eigen::MatrixXd G = P_->correct(w.asDiagonal() * dZ.transpose(), C);
     const Eigen::VectorXd whitened = Cl.solve(innovation);
     x_ += G.transpose() * whitened;
-    subtractGram(G, P_);
     report.innovationSquaredNorm = innovation.squaredNorm();
     report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
     report.predictedObservationTrace = dZ.colwise().squaredNorm().transpose().dot(w);  // tr(Pz - R)
@@ -118,7 +109,7 @@ FilterStepReport UkfFilter::step(const Observation& y) {
     // The move of this pass in the Mahalanobis metric of the analysed covariance P.
     if (pass > 0) {
       RepairLog ignored;
-      const Eigen::MatrixXd Pc = choleskyWithRepair(P_, ignored);
+      const Eigen::MatrixXd Pc = choleskyWithRepair(P_->matrix(), ignored);
       const double distance2 =
           Pc.triangularView<Eigen::Lower>().solve(x_ - previousMean).squaredNorm();
       if (distance2 <= options_.relinearizationTolerance * options_.relinearizationTolerance) break;
@@ -130,7 +121,7 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   report.seconds.correction = secondsSince(correctionStart);
 
   ensemble_.endStep(x_);
-  ensemble_.layout().toReported(x_, P_.diagonal().cwiseMax(0.0).cwiseSqrt(), report.mean,
+  ensemble_.layout().toReported(x_, P_->diagonal().cwiseMax(0.0).cwiseSqrt(), report.mean,
                                 report.stddev);
   report.covarianceRepairs = repairs.repairs;
   report.largestJitter = repairs.largestJitter;
@@ -138,17 +129,18 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   return report;
 }
 
-FilterState UkfFilter::saveState() const { return {{Eigen::MatrixXd(x_), P_}, ""}; }
+FilterState UkfFilter::saveState() const { return {{Eigen::MatrixXd(x_), P_->matrix()}, ""}; }
 
 void UkfFilter::restoreState(const FilterState& state) {
   const auto fits = [&](size_t i, Eigen::Index rows, Eigen::Index cols) {
     return i < state.matrices.size() && state.matrices[i].rows() == rows &&
            state.matrices[i].cols() == cols;
   };
-  if (state.matrices.size() != 2 || !fits(0, x_.size(), 1) || !fits(1, P_.rows(), P_.cols()))
+  const Eigen::Index n = x_.size();
+  if (state.matrices.size() != 2 || !fits(0, n, 1) || !fits(1, n, n))
     throw std::invalid_argument("UkfFilter::restoreState: sizes differ from this filter's");
   x_ = state.matrices[0].col(0);
-  P_ = state.matrices[1];
+  P_->assign(state.matrices[1]);
 }
 
 }  // namespace bcassim

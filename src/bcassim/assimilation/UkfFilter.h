@@ -1,13 +1,14 @@
 // Unscented Kalman filter on the full stochastic state (thesis Alg. 1, eq. 3.3 and 3.8) with star,
 // canonical or simplex sigma points.
 #pragma once
+#include <memory>
 #include <vector>
 
-#include "bcassim/assimilation/DenseAlgebra.h"
 #include "bcassim/assimilation/Filter.h"
 #include "bcassim/assimilation/FilterOptions.h"
 #include "bcassim/assimilation/ForecastEnsemble.h"
 #include "bcassim/assimilation/SigmaPointSet.h"
+#include "bcassim/assimilation/UkfCovariance.h"
 
 namespace bcassim {
 
@@ -36,7 +37,7 @@ class UkfFilter final : public Filter {
 
   FilterStepReport step(const Observation& y) override;
   const Eigen::VectorXd& mean() const override { return x_; }
-  Eigen::MatrixXd covariance() const override { return P_; }
+  Eigen::MatrixXd covariance() const override { return P_->matrix(); }
   Eigen::MatrixXd covarianceFactor() const override;
   FilterState saveState() const override;
   void restoreState(const FilterState& state) override;  // Cholesky factor of P, n x n
@@ -49,10 +50,10 @@ class UkfFilter final : public Filter {
   ForecastEnsemble ensemble_;
   UkfOptions options_;
   SigmaPointSet sigma_;
-  DenseAlgebra localAlgebra_;
-  DenseAlgebra* algebra_;  // the distribution's shared algebra, or localAlgebra_
   Eigen::VectorXd x_;
-  Eigen::MatrixXd P_;
+  // Here, or shared with the distribution's processes. Its methods gather from them: logically
+  // const.
+  std::unique_ptr<UkfCovariance> P_;
 };
 
 }  // namespace bcassim

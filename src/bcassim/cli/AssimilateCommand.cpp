@@ -186,13 +186,16 @@ class AssimilateCommand : public Command {
         "sending the mean\n",
         1e-6 * t.sentBytes / n, 1e-6 * t.receivedBytes / n, 1e3 * t.sendSeconds / n,
         1e3 * t.receiveSeconds / n, 1e3 * t.endStepSeconds / n);
-    if (t.grams > 0 || t.factorizations > 0)
+    if (t.covarianceSteps > 0) {
+      const double k = 1e3 / t.covarianceSteps;
       fmt::print(
-          "MPI: shared algebra per step: Gram matrix {:.3g} ms ({:.4g} MB reduced), Cholesky "
-          "{:.3g} "
-          "ms ({} factorisation{}, {:.4g} MB to and from the grid)\n",
-          1e3 * t.gramSeconds / n, 1e-6 * t.gramBytes / n, 1e3 * t.choleskySeconds / n,
-          t.factorizations, t.factorizations == 1 ? "" : "s", 1e-6 * t.choleskyBytes / n);
+          "MPI: covariance kept over the ranks, rank 0 per step: Cholesky {:.3g} ms (pdpotrf "
+          "{:.3g}), factor's columns {:.3g} ms, own sigma points {:.3g} ms, mean and Gram matrix "
+          "{:.3g} ms (products {:.3g}, reduce-scatter {:.3g}), correction {:.3g} ms\n",
+          k * t.factorSeconds, k * t.pdpotrfSeconds, k * t.columnsSeconds, k * t.pointsSeconds,
+          k * t.gramSeconds, k * t.gramProductSeconds, k * t.gramReduceSeconds,
+          k * t.correctSeconds);
+    }
   }
 
   // A worker rank: the same scene and models, silent; its errors go to rank 0, which prints

@@ -9,6 +9,7 @@
 #include "bcassim/Stopwatch.h"
 #include "bcassim/distributed/JobEndNotice.h"
 #include "bcassim/distributed/MpiForecastProtocol.h"
+#include "bcassim/distributed/MpiUkfCovariance.h"
 
 namespace bcassim {
 
@@ -53,8 +54,7 @@ MpiForecastDistribution::MpiForecastDistribution(
     : size_(session.size()),
       describeEnd_(std::move(describeEnd)),
       sent_(static_cast<size_t>(session.size())),
-      pending_(static_cast<size_t>(session.size()), false),
-      cholesky_(session.size()) {
+      pending_(static_cast<size_t>(session.size()), false) {
   updateEndNotice();
 }
 
@@ -65,16 +65,8 @@ MpiForecastDistribution::~MpiForecastDistribution() {
     MPI_Send(stop.data(), 4, MPI_INT32_T, r, proto::kCommandTag, MPI_COMM_WORLD);
 }
 
-// Equal blocks in rank order, the first ranks taking one more when the columns do not divide.
 std::vector<MpiForecastDistribution::Block> MpiForecastDistribution::blocks(int columns) const {
-  std::vector<Block> out(static_cast<size_t>(size_));
-  int first = 0;
-  for (int r = 0; r < size_; ++r) {
-    const int count = columns / size_ + (r < columns % size_ ? 1 : 0);
-    out[static_cast<size_t>(r)] = {first, count};
-    first += count;
-  }
-  return out;
+  return equalColumnBlocks(columns, size_);
 }
 
 int MpiForecastDistribution::localColumns(int columns) const { return blocks(columns)[0].count; }
@@ -169,38 +161,27 @@ void MpiForecastDistribution::endStep(const Eigen::VectorXd& mean) {
   stats_.endStepSeconds += secondsSince(start);
 }
 
-void MpiForecastDistribution::weightedGram(const Eigen::MatrixXd& deviations,
-                                           const Eigen::VectorXd& w, double scale,
-                                           Eigen::MatrixXd& P) {
-  const Clock::time_point start = Clock::now();
-  const std::vector<Block> b = blocks(static_cast<int>(deviations.cols()));
-  Eigen::VectorXd payload;
-  for (int r = 1; r < size_; ++r) {
-    const Block& mine = b[static_cast<size_t>(r)];
-    sendHeader({proto::kGram, step_, static_cast<std::int32_t>(deviations.rows()), mine.count}, r);
-    payload.resize(mine.count + 1);
-    payload << scale, w.segment(mine.first, mine.count);
-    checkMpi(MPI_Send(payload.data(), static_cast<int>(payload.size()), MPI_DOUBLE, r,
-                      proto::kCommandPayloadTag, MPI_COMM_WORLD),
-             fmt::format("sending the weights of the Gram matrix to rank {}", r));
-  }
-  reduceSharedGram(deviations, w, b, P, packedGram_);
-  ++stats_.grams;
-  stats_.gramSeconds += secondsSince(start);
-  stats_.gramBytes += 8.0 * static_cast<double>(packedGram_.size());
+std::unique_ptr<UkfCovariance> MpiForecastDistribution::ukfCovariance(const SigmaPointSet& sigma) {
+  if (size_ < 2 || sigma.structure == UnitStructure::Dense) return nullptr;
+  return std::make_unique<MpiUkfCovariance>(*this, sigma);
 }
 
-bool MpiForecastDistribution::choleskyLower(const Eigen::MatrixXd& A, Eigen::MatrixXd& L) {
-  const Clock::time_point start = Clock::now();
-  const auto n = static_cast<std::int32_t>(A.rows());
-  for (int r = 1; r < size_; ++r) sendHeader({proto::kCholesky, step_, n, n}, r);
-  L.resize(n, n);
-  const bool factored = cholesky_.factor(n, A.data(), L.data());
-  if (factored) L.triangularView<Eigen::StrictlyUpper>().setZero();
-  ++stats_.factorizations;
-  stats_.choleskySeconds += secondsSince(start);
-  stats_.choleskyBytes += cholesky_.lastRootBytes();
-  return factored;
+void MpiForecastDistribution::tellWorkers(std::int32_t command, int rows, int columns,
+                                          const Eigen::VectorXd& payload) {
+  for (int r = 1; r < size_; ++r) {
+    sendHeader({command, step_, rows, columns}, r);
+    if (payload.size() > 0)
+      checkMpi(MPI_Send(payload.data(), static_cast<int>(payload.size()), MPI_DOUBLE, r,
+                        proto::kCommandPayloadTag, MPI_COMM_WORLD),
+               fmt::format("sending a command's data to rank {}", r));
+  }
+}
+
+void MpiForecastDistribution::expectAnswers(int columns) {
+  sent_ = blocks(columns);
+  ++stats_.steps;
+  for (int r = 1; r < size_; ++r) pending_[static_cast<size_t>(r)] = true;
+  updateEndNotice();
 }
 
 // Answers owed after an exception between send() and receive(): read and dropped, so that no

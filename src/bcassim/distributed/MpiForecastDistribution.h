@@ -3,14 +3,13 @@
 // independent forecasts, ranks x threads).
 #pragma once
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "bcassim/assimilation/DenseAlgebra.h"
 #include "bcassim/assimilation/ForecastDistribution.h"
+#include "bcassim/distributed/MpiForecastProtocol.h"
 #include "bcassim/distributed/MpiSession.h"
-#include "bcassim/distributed/ScalapackCholesky.h"
-#include "bcassim/distributed/SharedGram.h"
 
 namespace bcassim {
 
@@ -21,15 +20,16 @@ struct MpiTransferStats {
   double sendSeconds = 0;                   // rank 0 in send(): columns out
   double receiveSeconds = 0;                // rank 0 in receive(): waiting and columns in
   double endStepSeconds = 0;                // rank 0 sending the analysed mean
-  // The filter's shared dense algebra (a full-state UKF): rank 0's wall time in the Gram
-  // matrices (its own block, the reduction, the shifts to the mean) and the Cholesky factors (A
-  // out to the grid, pdpotrf, L back), and the bytes rank 0 took part in moving for them.
-  int grams = 0, factorizations = 0;
-  double gramSeconds = 0, choleskySeconds = 0;
-  double gramBytes = 0, choleskyBytes = 0;
+  // A full-state UKF's covariance kept over the ranks (MpiUkfCovariance): steps, and rank 0's
+  // wall time in each part of them (factor: pdpotrf and its agreements; columns: the factor's
+  // columns handed out and the suffix sums; points: its own sigma points; gram: the mean and the
+  // Gram matrix, of which its products and the reduce-scatter; correct: the gain and P -= G^T G).
+  int covarianceSteps = 0;
+  double factorSeconds = 0, pdpotrfSeconds = 0, columnsSeconds = 0, pointsSeconds = 0;
+  double gramSeconds = 0, gramProductSeconds = 0, gramReduceSeconds = 0, correctSeconds = 0;
 };
 
-class MpiForecastDistribution final : public ForecastDistribution, public DenseAlgebra {
+class MpiForecastDistribution final : public ForecastDistribution {
  public:
   // On rank 0 of `session`, whose other ranks run MpiForecastServer::serve. `describeEnd(step,
   // ranks)` words the line printed if the job is ended during `step` while `ranks` (e.g. "2" or
@@ -46,18 +46,20 @@ class MpiForecastDistribution final : public ForecastDistribution, public DenseA
   void send(const Eigen::MatrixXd& points) override;
   void receive(Eigen::MatrixXd& forecasts, Eigen::MatrixXd& observables) override;
   void endStep(const Eigen::VectorXd& mean) override;
-  // With more than one rank: the Gram matrix reduced over the ranks' blocks (SharedGram.h) and
-  // the Cholesky factor computed by all of them (ScalapackCholesky.h).
-  DenseAlgebra* sharedAlgebra() override { return size_ > 1 ? this : nullptr; }
-  void weightedGram(const Eigen::MatrixXd& deviations, const Eigen::VectorXd& w, double scale,
-                    Eigen::MatrixXd& P) override;
-  bool choleskyLower(const Eigen::MatrixXd& A, Eigen::MatrixXd& L) override;
+  // With more than one rank: the covariance kept by every rank (MpiUkfCovariance.h).
+  std::unique_ptr<UkfCovariance> ukfCovariance(const SigmaPointSet& sigma) override;
 
   // Totals since the start (payload bytes and rank 0's wall time in each call).
   const MpiTransferStats& stats() const { return stats_; }
 
  private:
+  friend class MpiUkfCovariance;
   using Block = ColumnBlock;
+  // {command, this step, rows, columns} and `payload` (none if empty) to every worker.
+  void tellWorkers(std::int32_t command, int rows, int columns,
+                   const Eigen::VectorXd& payload = Eigen::VectorXd());
+  // Every worker owes a forecast's answer for its block of `columns` (receive() collects them).
+  void expectAnswers(int columns);
   std::vector<Block> blocks(int columns) const;
   void updateEndNotice();
   void drain() noexcept;
@@ -68,8 +70,6 @@ class MpiForecastDistribution final : public ForecastDistribution, public DenseA
   std::vector<Block> sent_;    // per rank: the columns it was given this step
   std::vector<bool> pending_;  // per rank: its answer is still owed
   MpiTransferStats stats_;
-  ScalapackCholesky cholesky_;
-  Eigen::VectorXd packedGram_;  // the Gram matrix's lower triangle, reduced
 };
 
 }  // namespace bcassim

@@ -3,15 +3,32 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <vector>
 
 namespace bcassim::mpi_protocol {
 
 // Rank 0 -> worker: {command, step, rows, columns}, then rows x columns doubles (none for Stop).
-// Gram: {kGram, step, state rows, the worker's columns}, then the deviations' scale and the
-// columns' weights (columns + 1 doubles); the worker adds its block's Gram matrix into rank 0's
-// (SharedGram.h). Cholesky: {kCholesky, step, n, n}, no payload; every rank joins the
-// factorisation (ScalapackCholesky.h).
-enum Command : std::int32_t { kForecast = 1, kEndStep = 2, kStop = 3, kGram = 4, kCholesky = 5 };
+// A full-state UKF's covariance kept over the ranks (UkfCovarianceShare.h), every command a
+// collective the worker joins: kUkfSetUp {n, payload size} with the packed sigma-point set;
+// kCovAssign, kCovGather, kCovDiagonal, kCovKeep, kCovRestore without payload; kCovAddDiagonal
+// with n doubles; kUkfForecast {n, s} with the mean and the spread (n + 1 doubles), answered as a
+// forecast is, with no forecast rows (only observables); kUkfMoments with the spread;
+// kUkfCorrect {m, s}, H's columns scattered in the collective.
+enum Command : std::int32_t {
+  kForecast = 1,
+  kEndStep = 2,
+  kStop = 3,
+  kUkfSetUp = 4,
+  kCovAssign = 5,
+  kCovGather = 6,
+  kCovDiagonal = 7,
+  kCovAddDiagonal = 8,
+  kCovKeep = 9,
+  kCovRestore = 10,
+  kUkfForecast = 11,
+  kUkfMoments = 12,
+  kUkfCorrect = 13,
+};
 // Worker -> rank 0: {kOk, rows, observable rows, columns}, then the forecasts and the observables
 // as two payloads; or {error kind, text length, 0, 0}, then the text.
 enum Answer : std::int32_t {
@@ -27,3 +44,24 @@ constexpr int kCommandTag = 17001, kCommandPayloadTag = 17002;
 constexpr int kAnswerTag = 17003, kAnswerPayloadTag = 17004;
 
 }  // namespace bcassim::mpi_protocol
+
+namespace bcassim {
+
+// A rank's columns of the step's sigma points / members.
+struct ColumnBlock {
+  int first = 0, count = 0;
+};
+
+// Equal blocks in rank order, the first ranks taking one more when the columns do not divide.
+inline std::vector<ColumnBlock> equalColumnBlocks(int columns, int ranks) {
+  std::vector<ColumnBlock> out(static_cast<size_t>(ranks));
+  int first = 0;
+  for (int r = 0; r < ranks; ++r) {
+    const int count = columns / ranks + (r < columns % ranks ? 1 : 0);
+    out[static_cast<size_t>(r)] = {first, count};
+    first += count;
+  }
+  return out;
+}
+
+}  // namespace bcassim

@@ -10,7 +10,6 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/distributed/MpiForecastProtocol.h"
-#include "bcassim/distributed/SharedGram.h"
 
 namespace bcassim {
 
@@ -49,10 +48,19 @@ void sendAnswer(const proto::Header& h) {
            "answering rank 0");
 }
 
+// The next command's payload of `size` doubles.
+Eigen::VectorXd receivePayload(Eigen::Index size, const char* what) {
+  Eigen::VectorXd payload(size);
+  checkMpi(MPI_Recv(payload.data(), static_cast<int>(size), MPI_DOUBLE, 0,
+                    proto::kCommandPayloadTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+           what);
+  return payload;
+}
+
 }  // namespace
 
 MpiForecastServer::MpiForecastServer(const MpiSession& session)
-    : rank_(session.rank()), killAtStep_(killStepFor(session.rank())), cholesky_(session.size()) {}
+    : rank_(session.rank()), ranks_(session.size()), killAtStep_(killStepFor(session.rank())) {}
 
 void MpiForecastServer::serve(ForecastEnsemble& ensemble) { serveUntilStop(&ensemble); }
 
@@ -68,9 +76,87 @@ void MpiForecastServer::answerError() const {
            "answering rank 0");
 }
 
+void MpiForecastServer::answerForecasts(const Eigen::MatrixXd& forecasts,
+                                        const Eigen::MatrixXd& observables) const {
+  sendAnswer({proto::kOk, static_cast<std::int32_t>(forecasts.rows()),
+              static_cast<std::int32_t>(observables.rows()),
+              static_cast<std::int32_t>(observables.cols())});
+  checkMpi(MPI_Send(forecasts.data(), static_cast<int>(forecasts.size()), MPI_DOUBLE, 0,
+                    proto::kAnswerPayloadTag, MPI_COMM_WORLD),
+           "sending forecasts to rank 0");
+  checkMpi(MPI_Send(observables.data(), static_cast<int>(observables.size()), MPI_DOUBLE, 0,
+                    proto::kAnswerPayloadTag, MPI_COMM_WORLD),
+           "sending observables to rank 0");
+}
+
+// Joined whatever this rank's state (a failure is answered at the next forecasts), so that no
+// collective hangs.
+void MpiForecastServer::serveCovariance(const proto::Header& h, ForecastEnsemble* ensemble) {
+  if (h[0] == proto::kUkfSetUp) {
+    SigmaPointColumns columns;
+    Eigen::VectorXd weights;
+    unpackSigmaPoints(receivePayload(h[3], "receiving the sigma points"), columns, weights);
+    share_ = std::make_unique<UkfCovarianceShare>(ranks_, std::move(columns), std::move(weights));
+    return;
+  }
+  if (!share_) throw std::runtime_error("MPI: a covariance command before the UKF's set-up");
+  BlockCyclicCovariance& P = share_->covariance();
+  switch (h[0]) {
+    case proto::kCovAssign:
+      P.scatter(nullptr);
+      return;
+    case proto::kCovGather:
+      P.gather(nullptr);
+      return;
+    case proto::kCovDiagonal:
+      P.diagonal();
+      return;
+    case proto::kCovAddDiagonal:
+      P.addToDiagonal(receivePayload(h[2], "receiving the process noise"));
+      return;
+    case proto::kCovKeep:
+      P.keep();
+      return;
+    case proto::kCovRestore:
+      P.restore();
+      return;
+    case proto::kUkfMoments:
+      share_->moments(receivePayload(1, "receiving the sigma points' spread")(0));
+      return;
+    case proto::kUkfCorrect:
+      share_->correct(nullptr, h[2]);
+      return;
+    default:
+      break;
+  }
+  // kUkfForecast: this rank's sigma points, forecast, and their observables to rank 0.
+  const Eigen::VectorXd payload = receivePayload(h[2] + 1, "receiving the mean to forecast from");
+  if (h[1] == killAtStep_) std::raise(SIGKILL);
+  Eigen::MatrixXd points;
+  RepairLog ignored;  // rank 0 reports the repairs
+  try {
+    points = share_->drawPoints(payload.head(h[2]), payload(h[2]), ignored);
+  } catch (...) {
+    if (!failure_) failure_ = describe(std::current_exception());
+  }
+  Eigen::MatrixXd forecasts, observables;
+  if (!failure_ && ensemble) {
+    try {
+      ensemble->forecast(points, forecasts, observables);
+      share_->keepForecasts(std::move(forecasts));
+    } catch (...) {
+      failure_ = describe(std::current_exception());
+    }
+  }
+  if (failure_) {
+    answerError();
+    return;
+  }
+  answerForecasts(Eigen::MatrixXd(0, observables.cols()), observables);
+}
+
 void MpiForecastServer::serveUntilStop(ForecastEnsemble* ensemble) {
   Eigen::MatrixXd points, forecasts, observables;
-  SharedGramWorkspace gram;
   Eigen::VectorXd mean;
   for (;;) {
     proto::Header h{};
@@ -92,24 +178,8 @@ void MpiForecastServer::serveUntilStop(ForecastEnsemble* ensemble) {
       }
       continue;
     }
-    // The shared algebra: joined whatever this rank's state, so that no collective hangs.
-    if (h[0] == proto::kCholesky) {
-      cholesky_.factor(h[2], nullptr, nullptr);
-      continue;
-    }
-    if (h[0] == proto::kGram) {
-      Eigen::VectorXd payload(h[3] + 1);
-      checkMpi(MPI_Recv(payload.data(), h[3] + 1, MPI_DOUBLE, 0, proto::kCommandPayloadTag,
-                        MPI_COMM_WORLD, MPI_STATUS_IGNORE),
-               "receiving the weights of the Gram matrix");
-      // Rank 0 asks only after every forecast came back; a block this rank does not hold (a
-      // protocol error) adds NaN, so that rank 0 stops on a non-finite covariance instead of
-      // using one without these columns.
-      const bool have = !failure_ && forecasts.rows() == h[2] && forecasts.cols() == h[3];
-      const Eigen::MatrixXd missing =
-          have ? Eigen::MatrixXd()
-               : Eigen::MatrixXd::Constant(h[2], h[3], std::numeric_limits<double>::quiet_NaN());
-      contributeBlockGram(have ? forecasts : missing, payload.tail(h[3]), payload[0], h[2], gram);
+    if (h[0] != proto::kForecast) {
+      serveCovariance(h, ensemble);
       continue;
     }
     points.resize(h[2], h[3]);
@@ -128,15 +198,7 @@ void MpiForecastServer::serveUntilStop(ForecastEnsemble* ensemble) {
       answerError();
       continue;
     }
-    sendAnswer({proto::kOk, static_cast<std::int32_t>(forecasts.rows()),
-                static_cast<std::int32_t>(observables.rows()),
-                static_cast<std::int32_t>(forecasts.cols())});
-    checkMpi(MPI_Send(forecasts.data(), static_cast<int>(forecasts.size()), MPI_DOUBLE, 0,
-                      proto::kAnswerPayloadTag, MPI_COMM_WORLD),
-             "sending forecasts to rank 0");
-    checkMpi(MPI_Send(observables.data(), static_cast<int>(observables.size()), MPI_DOUBLE, 0,
-                      proto::kAnswerPayloadTag, MPI_COMM_WORLD),
-             "sending observables to rank 0");
+    answerForecasts(forecasts, observables);
   }
 }
 

@@ -2,13 +2,14 @@
 // members rank 0 sends, with the rank's own models and threads, until rank 0 says stop.
 #pragma once
 #include <exception>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 
 #include "bcassim/assimilation/ForecastEnsemble.h"
 #include "bcassim/distributed/MpiSession.h"
-#include "bcassim/distributed/ScalapackCholesky.h"
+#include "bcassim/distributed/UkfCovarianceShare.h"
 
 namespace bcassim {
 
@@ -29,12 +30,15 @@ class MpiForecastServer {
 
  private:
   void serveUntilStop(ForecastEnsemble* ensemble);
+  // The collectives of a UKF covariance kept over the ranks (kUkfSetUp ... kUkfCorrect).
+  void serveCovariance(const mpi_protocol::Header& h, ForecastEnsemble* ensemble);
   void answerError() const;
+  void answerForecasts(const Eigen::MatrixXd& forecasts, const Eigen::MatrixXd& observables) const;
 
-  int rank_;
+  int rank_, ranks_;
   int killAtStep_ = -1;                                          // BCASSIM_TEST_MPI_KILL
   std::optional<std::pair<std::int32_t, std::string>> failure_;  // answered to every forecast
-  ScalapackCholesky cholesky_;
+  std::unique_ptr<UkfCovarianceShare> share_;
 };
 
 }  // namespace bcassim
