@@ -256,21 +256,32 @@ void BlockCyclicCovariance::factorColumns(const std::vector<std::vector<Eigen::I
   };
   std::vector<int> sendCounts(static_cast<size_t>(ranks_), 0), recvCounts = sendCounts;
   std::vector<char> wanted(static_cast<size_t>(n_), 0);
-  std::vector<double> out;
+  // Sized first: the buffers are kept between steps (no fresh pages to fault in each step).
+  long long total = 0;
+  for (int d = 0; d < ranks_; ++d)
+    for (const Eigen::Index j : needed[static_cast<size_t>(d)]) {
+      const auto at = std::lower_bound(me.globalCol.begin(), me.globalCol.end(), j);
+      if (at != me.globalCol.end() && *at == j) total += me.localRows() - firstRow(me, *at);
+    }
+  if (sendBuffer_.size() < total) sendBuffer_.resize(total);
+  double* out = sendBuffer_.data();
   for (int d = 0; d < ranks_; ++d) {
     for (const Eigen::Index j : needed[static_cast<size_t>(d)]) wanted[static_cast<size_t>(j)] = 1;
-    const size_t before = out.size();
+    const double* before = out;
     for (int lj = 0; lj < me.localCols(); ++lj) {
       const int j = me.globalCol[static_cast<size_t>(lj)];
       if (!wanted[static_cast<size_t>(j)]) continue;
-      for (int li = firstRow(me, j); li < me.localRows(); ++li) out.push_back(local_(li, lj));
+      const int first = firstRow(me, j);
+      const double* column = local_.data() + static_cast<long long>(lj) * local_.rows();
+      out = std::copy(column + first, column + me.localRows(), out);
     }
-    sendCounts[static_cast<size_t>(d)] = static_cast<int>(out.size() - before);
+    sendCounts[static_cast<size_t>(d)] = static_cast<int>(out - before);
     for (const Eigen::Index j : needed[static_cast<size_t>(d)]) wanted[static_cast<size_t>(j)] = 0;
   }
   const std::vector<Eigen::Index>& mine = needed[static_cast<size_t>(rank_)];
   std::vector<int> position(static_cast<size_t>(n_), -1);
-  for (size_t k = 0; k < mine.size(); ++k) position[static_cast<size_t>(mine[k])] = static_cast<int>(k);
+  for (size_t k = 0; k < mine.size(); ++k)
+    position[static_cast<size_t>(mine[k])] = static_cast<int>(k);
   for (int s = 0; s < ranks_; ++s) {
     const Piece& p = pieces_[static_cast<size_t>(s)];
     for (const int j : p.globalCol)
@@ -284,20 +295,28 @@ void BlockCyclicCovariance::factorColumns(const std::vector<std::vector<Eigen::I
     recvOffsets[static_cast<size_t>(r)] =
         recvOffsets[static_cast<size_t>(r - 1)] + recvCounts[static_cast<size_t>(r - 1)];
   }
-  std::vector<double> in(
-      static_cast<size_t>(recvOffsets.back()) + static_cast<size_t>(recvCounts.back()));
-  checkMpi(MPI_Alltoallv(out.data(), sendCounts.data(), sendOffsets.data(), MPI_DOUBLE, in.data(),
+  const long long received =
+      static_cast<long long>(recvOffsets.back()) + static_cast<long long>(recvCounts.back());
+  if (receiveBuffer_.size() < received) receiveBuffer_.resize(received);
+  checkMpi(MPI_Alltoallv(sendBuffer_.data(), sendCounts.data(), sendOffsets.data(), MPI_DOUBLE,
+                         receiveBuffer_.data(),
                          recvCounts.data(), recvOffsets.data(), MPI_DOUBLE, MPI_COMM_WORLD),
            "handing the covariance factor's columns to the ranks");
   columns.setZero(n_, static_cast<Eigen::Index>(mine.size()));
-  const double* at = in.data();
+  const double* at = receiveBuffer_.data();
   for (int s = 0; s < ranks_; ++s) {
     const Piece& p = pieces_[static_cast<size_t>(s)];
     for (const int j : p.globalCol) {
       const int k = position[static_cast<size_t>(j)];
       if (k < 0) continue;
-      for (int li = firstRow(p, j); li < p.localRows(); ++li)
-        columns(p.globalRow[static_cast<size_t>(li)], k) = *at++;
+      // The source's rows come in runs of consecutive global rows (its row blocks).
+      for (int li = firstRow(p, j); li < p.localRows();) {
+        const int row = p.globalRow[static_cast<size_t>(li)];
+        const int run = std::min(p.localRows() - li, block_ - li % block_);
+        std::copy(at, at + run, columns.col(k).data() + row);
+        at += run;
+        li += run;
+      }
     }
   }
 }
@@ -329,32 +348,33 @@ void BlockCyclicCovariance::assignGram(const Eigen::MatrixXd& D, const Eigen::Ve
     throw std::invalid_argument("BlockCyclicCovariance::assignGram: sizes");
   const Clock::time_point start = Clock::now();
   const int c = static_cast<int>(D.cols());
-  const Eigen::MatrixXd DW = D * w.asDiagonal();
-  // D's rows of each grid row's pieces.
-  std::vector<Eigen::MatrixXd> rowsOf(static_cast<size_t>(gridRows_));
-  for (const Piece& p : pieces_) {
-    Eigen::MatrixXd& R = rowsOf[static_cast<size_t>(p.gridRow)];
-    if (R.rows() == p.localRows() && R.cols() == c) continue;
-    R.resize(p.localRows(), c);
-    for (int li = 0; li < p.localRows(); ++li) R.row(li) = D.row(p.globalRow[static_cast<size_t>(li)]);
-  }
+  // Equal weights (simplex points) are BLAS's alpha; others scale a copy of D's columns.
+  const bool equal = c > 0 && (w.array() == w(0)).all();
+  Eigen::MatrixXd scaled;
+  if (!equal && c > 0) scaled = D * w.asDiagonal();
+  const double alpha = equal ? w(0) : 1.0;
+  const double* B = equal ? D.data() : scaled.data();
   sendBuffer_.resize(packedOffsets_.back() + packedCounts_.back());
   for (int d = 0; d < ranks_; ++d) {
     const Piece& p = pieces_[static_cast<size_t>(d)];
-    const Eigen::MatrixXd& R = rowsOf[static_cast<size_t>(p.gridRow)];
     double* out = sendBuffer_.data() + packedOffsets_[static_cast<size_t>(d)];
-    // One product per column block: its tail of rows times the block's columns.
+    // One product per block of the lower triangle, D's rows read in place (a block's rows are
+    // consecutive in the whole matrix), written where the packed piece keeps it.
     for (int lj = 0; lj < p.localCols(); lj += block_) {
       const int width = std::min(block_, p.localCols() - lj);
-      const int start = p.rowStart[static_cast<size_t>(lj)];
-      const int tail = p.localRows() - start;
+      const int first = p.rowStart[static_cast<size_t>(lj)];
+      const int tail = p.localRows() - first;
       double* C = out + p.offset[static_cast<size_t>(lj)];
       if (c == 0) {
         std::fill(C, C + static_cast<long long>(tail) * width, 0.0);
         continue;
       }
-      gemm("N", "T", tail, width, c, 1.0, R.data() + start, static_cast<int>(R.rows()),
-           DW.data() + p.globalCol[static_cast<size_t>(lj)], n_, 0.0, C, std::max(1, tail));
+      const int column = p.globalCol[static_cast<size_t>(lj)];
+      for (int li = first; li < p.localRows(); li += block_) {
+        const int rows = std::min(block_, p.localRows() - li);
+        gemm("N", "T", rows, width, c, alpha, D.data() + p.globalRow[static_cast<size_t>(li)], n_,
+             B + column, n_, 0.0, C + (li - first), std::max(1, tail));
+      }
     }
   }
   const Clock::time_point products = Clock::now();

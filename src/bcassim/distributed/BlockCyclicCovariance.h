@@ -80,7 +80,7 @@ class BlockCyclicCovariance {
   std::vector<int> packedCounts_, packedOffsets_;
   Eigen::VectorXd packed_, kept_;  // this rank's lower piece, packed
   Eigen::MatrixXd local_;          // this rank's factor (ScaLAPACK's local layout)
-  mutable Eigen::VectorXd sendBuffer_;
+  mutable Eigen::VectorXd sendBuffer_, receiveBuffer_;  // kept between steps
   double lastFactorSeconds_ = 0, lastGramProductSeconds_ = 0, lastGramReduceSeconds_ = 0;
 };
 

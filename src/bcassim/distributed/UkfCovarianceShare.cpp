@@ -6,8 +6,12 @@
 #include <stdexcept>
 
 #include "bcassim/Stopwatch.h"
-#include "bcassim/assimilation/LargeDenseKernels.h"
 #include "bcassim/distributed/MpiSession.h"
+
+extern "C" void dgemm_(const char* transa, const char* transb, const int* m, const int* n,
+                       const int* k, const double* alpha, const double* a, const int* lda,
+                       const double* b, const int* ldb, const double* beta, double* c,
+                       const int* ldc);
 
 namespace bcassim {
 
@@ -115,8 +119,13 @@ Eigen::MatrixXd UkfCovarianceShare::correct(const Eigen::MatrixXd* H, int m) {
   checkMpi(MPI_Scatterv(H != nullptr ? H->data() : nullptr, counts.data(), offsets.data(),
                         MPI_DOUBLE, mine.data(), m * b.count, MPI_DOUBLE, 0, MPI_COMM_WORLD),
            "sending the correction's weights to the ranks");
-  Eigen::MatrixXd partial;
-  multiply(mine, deviations_.transpose(), partial);
+  // G's share H_r D_r^T, D read in place (no transposed copy).
+  Eigen::MatrixXd partial = Eigen::MatrixXd::Zero(m, columns_.rows);
+  const int n = static_cast<int>(columns_.rows), c = b.count;
+  const double one = 1.0, zero = 0.0;
+  if (m > 0 && c > 0)
+    dgemm_("N", "T", &m, &n, &c, &one, mine.data(), &m, deviations_.data(), &n, &zero,
+           partial.data(), &m);
   Eigen::MatrixXd G(m, columns_.rows);
   checkMpi(MPI_Reduce(partial.data(), G.data(), static_cast<int>(G.size()), MPI_DOUBLE, MPI_SUM, 0,
                       MPI_COMM_WORLD),
