@@ -56,7 +56,7 @@ for config in "1 1" "1 2" "2 1" "2 2"; do
   run liver "$OUT/liver/estimate.yaml" $config
 done
 "${MPIRUN[@]}" -np 2 "$BUILD/bench/bench_mpi_transfer" > "$OUT/transfer.txt"
-# The UKF's dense algebra alone and shared by 2 ranks, one BLAS thread per rank.
+# The UKF's dense algebra alone and kept over 1 and 2 ranks, one BLAS thread per rank.
 OPENBLAS_NUM_THREADS=1 "$BUILD/bench/bench_dense_algebra" > "$OUT/dense.txt"
 OPENBLAS_NUM_THREADS=1 "${MPIRUN[@]}" -x OPENBLAS_NUM_THREADS -np 2 \
   "$BUILD/bench/bench_dense_algebra" >> "$OUT/dense.txt"
@@ -132,65 +132,76 @@ def model(name, S, n, m):
                          f"efficiency {e:.2f}, forecasts' {ef:.2f}")
         print(f"  {label}:\n    " + "\n    ".join(cells))
 
-# The full-state UKF shares its dense algebra (SharedGram.h, ScalapackCholesky.h), so its model
-# splits rank 0's work: A' what only rank 0 does (sigma points, deviations, the correction's
-# small products, sends and receives), measured at 2 ranks as the step minus forecasts, Gram
-# and Cholesky; the Gram matrix: g per column on every rank, rank 0's packing, shifts and mirror
-# (measured at 2 ranks), then ceil(log2 R) reduction stages (the lower triangle, 31 MB, over the
-# link plus the sum, the sum measured at 2 ranks); every Cholesky
-# factorisation: rank 0 packing A and unpacking L (measured), MPI's copy of rank 0's own piece
-# (1/R of the one-rank move), A and L over the link, pdpotrf's
-# flops shared by R and its panels broadcast ceil(log2 R) times (ScaLAPACK on one rank measured).
+# The full-state UKF keeps its covariance over the ranks (UkfCovarianceShare.h): every rank forms
+# its own sigma points from its columns of the factor, forecasts them, adds their Gram matrix into
+# the block-cyclic pieces and applies the Kalman update to its piece; rank 0 keeps only vectors and
+# m x S matrices. Per step on R ranks:
+#   T(R) = A + ceil(S/R) (t + g + p) + K(R) + X(R) + Gr(R) + Cr(R) + C(R)
+# A what only rank 0 does (observations, Pz, H, the diagonal, the mean's end of step), measured at
+# 2x1 as the step minus rank 0's parts; t one sigma point's forecast, g its Gram products and p its
+# point (bench_dense_algebra on one rank, per column); K the factorisation: ScaLAPACK's flops on
+# one rank shared by R and its panels broadcast down a tree; X the factor's columns: each rank's
+# n x S/R share over the link, its copies (one rank's measured, / R) and the suffix sums'
+# reduce-scatter (n R doubles); Gr the Gram matrix's reduce-scatter of the packed lower triangle
+# (ring: (R-1)/R of it over each link and summed, the sum per byte measured at 2 ranks) and the
+# mean's reduce and broadcast; Cr the correction: H's columns scattered, the products (measured on
+# one rank) shared by R, G reduced and broadcast; C rank 0's messages (the commands, the mean out
+# twice, the observables back).
 def ukf_shared_model(S, n, m):
     dense = {}
     for line in open(f"{out}/dense.txt"):
-        mm = re.search(r"ranks (\d+).*gram ([0-9.]+) ms, reduce ([0-9.]+) ms, cholesky ([0-9.]+) ms "
-                       r"\(ScaLAPACK: pdpotrf ([0-9.]+) ms, moving A and L ([0-9.]+) ms, of which "
-                       r"packing ([0-9.]+) ms", line)
+        mm = re.search(r"ranks (\d+).*alone \(rank 0\) gram ([0-9.]+) ms, cholesky ([0-9.]+) ms, "
+                       r"sigma points ([0-9.]+) ms, update ([0-9.]+) ms; kept over the ranks: draw "
+                       r"([0-9.]+) ms \(factor ([0-9.]+), pdpotrf ([0-9.]+), factor's columns "
+                       r"([0-9.]+), own points ([0-9.]+)\), mean and gram ([0-9.]+) ms \(products "
+                       r"([0-9.]+), reduce-scatter ([0-9.]+)\), correction ([0-9.]+) ms", line)
         if mm:
-            dense[int(mm.group(1))] = [float(v) / 1e3 for v in mm.groups()[1:]]
-    gram1, _, chol1, pdpotrf1, moves1, pack1 = dense[1]
-    reduce2 = dense[2][1]
+            keys = ["gram", "chol", "points", "update", "draw", "factor", "pdpotrf", "columns",
+                    "own", "moments", "products", "reduce", "correct"]
+            dense[int(mm.group(1))] = dict(zip(keys, (float(v) / 1e3 for v in mm.groups()[1:])))
+    one, two = dense[1], dense[2]
     total1, forecast1, _ = steps("ukf", "1x1")
     total2, forecast2, _ = steps("ukf", "2x1")
     text = open(f"{out}/runs/ukf-2x1.txt").read()
-    shared = re.search(r"Gram matrix ([0-9.]+) ms .*Cholesky ([0-9.]+) ms \((\d+) factorisations?",
-                       text)
-    gram2, chol2 = float(shared.group(1)) / 1e3, float(shared.group(2)) / 1e3
-    c = int(shared.group(3)) / steps_of("ukf", "2x1")
+    kept = re.search(r"Cholesky ([0-9.]+) ms \(pdpotrf ([0-9.]+)\), factor's columns ([0-9.]+) ms, "
+                     r"own sigma points ([0-9.]+) ms, mean and Gram matrix ([0-9.]+) ms \(products "
+                     r"([0-9.]+), reduce-scatter ([0-9.]+)\), correction ([0-9.]+) ms", text)
+    chol2, _, columns2, points2, gram2, _, _, corr2 = (float(v) / 1e3 for v in kept.groups())
     T1, F1, T2, F2 = total1 / 1e3, forecast1 / 1e3, total2 / 1e3, forecast2 / 1e3
-    t, g = F1 / S, gram1 / S
-    A = max(T2 - F2 - gram2 - chol2, 0.0)
-    half = 8 * n * (n + 1) / 2  # bytes of the lower triangle, as it travels
-    stage_sum = max(reduce2 - half / bandwidth, 0.0)
-    # rank 0's own part beyond its block's Gram and the reduction: packing, shifts, mirror
-    gram0 = max(gram2 - math.ceil(S / 2) * g - reduce2, 0.0)
-    print(f"\nukf model (shared algebra): S {S}, n {n}, m {m}, t {1e3 * t:.3f} ms per sigma point, "
-          f"A' {1e3 * A:.1f} ms rank 0's own work (2x1 step {1e3 * T2:.0f} - forecasts "
-          f"{1e3 * F2:.0f} - Gram {1e3 * gram2:.0f} - Cholesky {1e3 * chol2:.0f}), Gram "
-          f"{1e3 * g:.3f} ms per column, reduction's sum {1e3 * stage_sum:.1f} ms per stage, rank 0's "
-          f"packing, shifts and mirror {1e3 * gram0:.0f} ms, "
-          f"{c:.1f} factorisations per step, ScaLAPACK on one rank {1e3 * pdpotrf1:.0f} ms "
-          f"(LAPACK {1e3 * chol1:.0f}), moving A and L on one rank {1e3 * moves1:.0f} ms, of which "
-          f"packing {1e3 * pack1:.0f} ms")
+    # The 1x1 forecasts time includes rank 0's factor and sigma points (the threaded filter's).
+    t = max(F1 - one["chol"] - one["points"], 0.0) / S
+    g, p = one["products"] / S, one["own"] / S
+    A = max(T2 - F2 - gram2 - corr2, 0.0)
+    half = 8 * n * (n + 1) / 2  # bytes of the packed lower triangle, about
+    sum_per_byte = max(two["reduce"] - half / 2 / bandwidth, 0.0) / (half / 2)
+    print(f"\nukf model (covariance kept over the ranks): S {S}, n {n}, m {m}, t {1e3 * t:.3f} ms "
+          f"per sigma point, Gram products {1e3 * g:.3f} ms and point {1e3 * p:.4f} ms per column, "
+          f"A {1e3 * A:.1f} ms rank 0's own work (2x1 step {1e3 * T2:.0f} - forecasts "
+          f"{1e3 * F2:.0f} - mean and Gram {1e3 * gram2:.0f} - correction {1e3 * corr2:.0f}; rank "
+          f"0's Cholesky {1e3 * chol2:.0f}, factor's columns {1e3 * columns2:.0f}, points "
+          f"{1e3 * points2:.0f} inside its forecasts), ScaLAPACK on one rank "
+          f"{1e3 * one['pdpotrf']:.0f} ms (LAPACK {1e3 * one['chol']:.0f}), factor's columns on one "
+          f"rank {1e3 * one['columns']:.0f} ms, reduce-scatter's sum {1e9 * sum_per_byte:.2f} ns/B, "
+          f"correction on one rank {1e3 * one['correct']:.0f} ms")
     for label, L, W in [("this machine (shared memory)", latency, bandwidth),
                         ("cluster (L 2 us, W 12 GB/s: 100 Gb/s InfiniBand)", 2e-6, 12e9),
                         ("cluster (L 20 us, W 1.25 GB/s: 10 Gb/s Ethernet)", 20e-6, 1.25e9)]:
         cells = []
         for R in [2, 8, 64, 512]:
             per = math.ceil(S / R)
-            busy = min(R, S)
-            stages = math.ceil(math.log2(R))
-            C = (3 * (busy - 1) * L + (8 * n + 8 * (n + m)) * (S - per) / W
-                 + (R - 1) * (L + 8 * n / W))
-            gram = per * g + gram0 + stages * (L + half / W + stage_sum)
-            # rank 0 packs and unpacks every piece; MPI copies its own 1/R; the rest crosses the link
-            chol = (pack1 + (moves1 - pack1) / R + 2 * 8 * n * n * (R - 1) / (R * W) + pdpotrf1 / R
-                    + math.ceil(n / 128) * stages * (2 * L + 8 * n * 128 / (math.sqrt(R) * W)))
-            T = A + per * t + gram + c * chol + C
+            tree = math.ceil(math.log2(R))
+            K = one["pdpotrf"] / R + math.ceil(n / 128) * tree * (
+                2 * L + 8 * n * 128 / (math.sqrt(R) * W))
+            X = one["columns"] / R + 8 * n * per / W + (R - 1) * L + 8 * n * (R - 1) / W
+            Gr = (R - 1) / R * half * (1 / W + sum_per_byte) + (R - 1) * L + 2 * tree * (L + 8 * n / W)
+            Cr = (one["correct"] / R + 8 * m * S * (R - 1) / (R * W) + (R - 1) * L
+                  + 2 * tree * (L + 8 * m * n / W))
+            C = (R - 1) * (8 * L + 2 * 8 * n / W) + 8 * m * (S - per) / W
+            T = A + per * (t + g + p) + K + X + Gr + Cr + C
             cells.append(f"R={R}: step {1e3 * T:.0f} ms (forecasts {1e3 * per * t:.0f}, Gram "
-                         f"{1e3 * gram:.0f}, Cholesky {1e3 * c * chol:.0f}, transfers {1e3 * C:.1f}), "
-                         f"efficiency {T1 / (R * T):.2f}")
+                         f"{1e3 * (per * g + Gr):.0f}, Cholesky {1e3 * K:.0f}, factor's columns and "
+                         f"points {1e3 * (X + per * p):.0f}, correction {1e3 * Cr:.0f}, rank 0's "
+                         f"messages {1e3 * C:.1f}), efficiency {T1 / (R * T):.2f}")
         print(f"  {label}:\n    " + "\n    ".join(cells))
     print(f"  measured at 2x1 on this machine: step {1e3 * T2:.0f} ms, efficiency {T1 / (2 * T2):.2f}")
 

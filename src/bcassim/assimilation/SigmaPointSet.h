@@ -45,10 +45,10 @@ struct SigmaPointSet {
 // own sigma points from their share of a distributed factor). Not for UnitStructure::Dense.
 struct SigmaPointColumns {
   UnitStructure structure = UnitStructure::Simplex;
-  Eigen::Index rows = 0;               // r = unit.rows()
-  Eigen::VectorXd suffixCoefficient;   // Simplex: unit(i, 0), i < r (the suffix sums' terms)
-  Eigen::VectorXd ownCoefficient;      // per column k: Simplex unit(k-1, k), else unit(row, k)
-  std::vector<Eigen::Index> ownRow;    // per column k: the factor column of that term, -1 none
+  Eigen::Index rows = 0;              // r = unit.rows()
+  Eigen::VectorXd suffixCoefficient;  // Simplex: unit(i, 0), i < r (the suffix sums' terms)
+  Eigen::VectorXd ownCoefficient;     // per column k: Simplex unit(k-1, k), else unit(row, k)
+  std::vector<Eigen::Index> ownRow;   // per column k: the factor column of that term, -1 none
 
   // The factor's columns that points k in [first, first + count) read, ascending.
   std::vector<Eigen::Index> factorColumns(Eigen::Index first, Eigen::Index count) const;

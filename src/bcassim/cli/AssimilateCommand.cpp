@@ -189,7 +189,9 @@ class AssimilateCommand : public Command {
     if (t.covarianceSteps > 0) {
       const double k = 1e3 / t.covarianceSteps;
       fmt::print(
-          "MPI: covariance kept over the ranks, rank 0 per step: Cholesky {:.3g} ms (pdpotrf "
+          "MPI: covariance kept over the ranks, rank 0 per step after the first: Cholesky {:.3g} "
+          "ms "
+          "(pdpotrf "
           "{:.3g}), factor's columns {:.3g} ms, own sigma points {:.3g} ms, mean and Gram matrix "
           "{:.3g} ms (products {:.3g}, reduce-scatter {:.3g}), correction {:.3g} ms\n",
           k * t.factorSeconds, k * t.pdpotrfSeconds, k * t.columnsSeconds, k * t.pointsSeconds,

@@ -121,18 +121,18 @@ void BlockCyclicCovariance::scatter(const double* P) {
       }
     }
   }
-  checkMpi(MPI_Scatterv(sendBuffer_.data(), packedCounts_.data(), packedOffsets_.data(), MPI_DOUBLE,
-                        packed_.data(), static_cast<int>(packed_.size()), MPI_DOUBLE, 0,
-                        MPI_COMM_WORLD),
-           "sending the covariance's pieces to the ranks");
+  checkMpi(
+      MPI_Scatterv(sendBuffer_.data(), packedCounts_.data(), packedOffsets_.data(), MPI_DOUBLE,
+                   packed_.data(), static_cast<int>(packed_.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD),
+      "sending the covariance's pieces to the ranks");
 }
 
 void BlockCyclicCovariance::gather(double* P) const {
   if (rank_ == 0) sendBuffer_.resize(packedOffsets_.back() + packedCounts_.back());
-  checkMpi(MPI_Gatherv(packed_.data(), static_cast<int>(packed_.size()), MPI_DOUBLE,
-                       sendBuffer_.data(), packedCounts_.data(), packedOffsets_.data(), MPI_DOUBLE,
-                       0, MPI_COMM_WORLD),
-           "gathering the covariance's pieces");
+  checkMpi(
+      MPI_Gatherv(packed_.data(), static_cast<int>(packed_.size()), MPI_DOUBLE, sendBuffer_.data(),
+                  packedCounts_.data(), packedOffsets_.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD),
+      "gathering the covariance's pieces");
   if (rank_ != 0) return;
   for (int r = 0; r < ranks_; ++r) {
     const Piece& p = pieces_[static_cast<size_t>(r)];
@@ -299,8 +299,8 @@ void BlockCyclicCovariance::factorColumns(const std::vector<std::vector<Eigen::I
       static_cast<long long>(recvOffsets.back()) + static_cast<long long>(recvCounts.back());
   if (receiveBuffer_.size() < received) receiveBuffer_.resize(received);
   checkMpi(MPI_Alltoallv(sendBuffer_.data(), sendCounts.data(), sendOffsets.data(), MPI_DOUBLE,
-                         receiveBuffer_.data(),
-                         recvCounts.data(), recvOffsets.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+                         receiveBuffer_.data(), recvCounts.data(), recvOffsets.data(), MPI_DOUBLE,
+                         MPI_COMM_WORLD),
            "handing the covariance factor's columns to the ranks");
   columns.setZero(n_, static_cast<Eigen::Index>(mine.size()));
   const double* at = receiveBuffer_.data();
@@ -335,11 +335,12 @@ Eigen::VectorXd BlockCyclicCovariance::factorSuffixSum(const std::vector<Eigen::
   const Eigen::MatrixXd Y =
       local_.topLeftCorner(p.localRows(), p.localCols()) * V;  // rows of this piece
   Eigen::MatrixXd whole = Eigen::MatrixXd::Zero(n_, ranks_);
-  for (int li = 0; li < p.localRows(); ++li) whole.row(p.globalRow[static_cast<size_t>(li)]) = Y.row(li);
+  for (int li = 0; li < p.localRows(); ++li)
+    whole.row(p.globalRow[static_cast<size_t>(li)]) = Y.row(li);
   Eigen::VectorXd mine(n_);
-  checkMpi(MPI_Reduce_scatter_block(whole.data(), mine.data(), n_, MPI_DOUBLE, MPI_SUM,
-                                    MPI_COMM_WORLD),
-           "summing the covariance factor's columns");
+  checkMpi(
+      MPI_Reduce_scatter_block(whole.data(), mine.data(), n_, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD),
+      "summing the covariance factor's columns");
   return mine;
 }
 
@@ -391,7 +392,8 @@ void BlockCyclicCovariance::subtractGram(const Eigen::MatrixXd& G) {
   const int k = static_cast<int>(G.rows());
   if (k == 0) return;
   Eigen::MatrixXd Grows(k, p.localRows());
-  for (int li = 0; li < p.localRows(); ++li) Grows.col(li) = G.col(p.globalRow[static_cast<size_t>(li)]);
+  for (int li = 0; li < p.localRows(); ++li)
+    Grows.col(li) = G.col(p.globalRow[static_cast<size_t>(li)]);
   for (int lj = 0; lj < p.localCols(); lj += block_) {
     const int width = std::min(block_, p.localCols() - lj);
     const int start = p.rowStart[static_cast<size_t>(lj)];

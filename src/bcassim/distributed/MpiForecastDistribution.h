@@ -20,10 +20,11 @@ struct MpiTransferStats {
   double sendSeconds = 0;                   // rank 0 in send(): columns out
   double receiveSeconds = 0;                // rank 0 in receive(): waiting and columns in
   double endStepSeconds = 0;                // rank 0 sending the analysed mean
-  // A full-state UKF's covariance kept over the ranks (MpiUkfCovariance): steps, and rank 0's
-  // wall time in each part of them (factor: pdpotrf and its agreements; columns: the factor's
-  // columns handed out and the suffix sums; points: its own sigma points; gram: the mean and the
-  // Gram matrix, of which its products and the reduce-scatter; correct: the gain and P -= G^T G).
+  // A full-state UKF's covariance kept over the ranks (MpiUkfCovariance): steps after the first
+  // (which faults its buffers in), and rank 0's wall time in each part of them (factor: pdpotrf and
+  // its agreements; columns: the factor's columns handed out and the suffix sums; points: its own
+  // sigma points; gram: the mean and the Gram matrix, of which its products and the reduce-scatter;
+  // correct: the gain and P -= G^T G).
   int covarianceSteps = 0;
   double factorSeconds = 0, pdpotrfSeconds = 0, columnsSeconds = 0, pointsSeconds = 0;
   double gramSeconds = 0, gramProductSeconds = 0, gramReduceSeconds = 0, correctSeconds = 0;

@@ -66,6 +66,8 @@ void MpiUkfCovariance::forecast(ForecastEnsemble& ensemble, const SigmaPointSet&
   observables.leftCols(own.cols()) = own;
   Eigen::MatrixXd none(0, s);  // the workers keep their forecasts
   distribution_.receive(none, observables);
+  // Steps after the first (the first faults in its buffers): what a step costs for the model.
+  if (++draws_ == 1) return;
   MpiTransferStats& t = distribution_.stats_;
   const UkfShareTimes& times = share_.times();
   ++t.covarianceSteps;
@@ -78,6 +80,7 @@ void MpiUkfCovariance::forecast(ForecastEnsemble& ensemble, const SigmaPointSet&
 void MpiUkfCovariance::moments(const SigmaPointSet& /*sigma*/, double spread, Eigen::VectorXd& x) {
   distribution_.tellWorkers(proto::kUkfMoments, 1, 1, Eigen::VectorXd::Constant(1, spread));
   x = share_.moments(spread);
+  if (draws_ <= 1) return;
   MpiTransferStats& t = distribution_.stats_;
   t.gramSeconds += share_.times().moments;
   t.gramProductSeconds += share_.times().gramProducts;
@@ -90,7 +93,7 @@ Eigen::MatrixXd MpiUkfCovariance::correct(const Eigen::MatrixXd& weightedDz,
   distribution_.tellWorkers(proto::kUkfCorrect, static_cast<int>(H.rows()),
                             static_cast<int>(H.cols()));
   Eigen::MatrixXd G = share_.correct(&H, static_cast<int>(H.rows()));
-  distribution_.stats_.correctSeconds += share_.times().correct;
+  if (draws_ > 1) distribution_.stats_.correctSeconds += share_.times().correct;
   return G;
 }
 

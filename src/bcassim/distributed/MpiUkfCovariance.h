@@ -31,6 +31,7 @@ class MpiUkfCovariance final : public UkfCovariance {
 
   MpiForecastDistribution& distribution_;
   int n_;
+  int draws_ = 0;  // forecast() calls so far
   UkfCovarianceShare share_;
 };
 

@@ -130,8 +130,7 @@ int main(int argc, char** argv) {
     const Eigen::VectorXd coefficient = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0);
     const Eigen::VectorXd suffix = P.factorSuffixSum(from, coefficient);
     const Eigen::Index mine = from[static_cast<size_t>(rank)];
-    const Eigen::VectorXd expected =
-        L.rightCols(n - mine) * coefficient.tail(n - mine);
+    const Eigen::VectorXd expected = L.rightCols(n - mine) * coefficient.tail(n - mine);
     double suffixError = (suffix - expected).cwiseAbs().maxCoeff() / expected.cwiseAbs().maxCoeff();
     MPI_Allreduce(MPI_IN_PLACE, &suffixError, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
     check(suffixError < 1e-13, "the factor's suffix sums", n, suffixError);
@@ -171,9 +170,9 @@ int main(int argc, char** argv) {
 
     // Each rank's sigma points, simplex and star, against the whole set's.
     for (const bool simplex : {true, false}) {
-      const bcassim::SigmaPointSet set = simplex ? bcassim::makeSigmaPoints(
-                                                       bcassim::SigmaPointKind::Simplex, n)
-                                                 : bcassim::starSigmaPoints(n);
+      const bcassim::SigmaPointSet set =
+          simplex ? bcassim::makeSigmaPoints(bcassim::SigmaPointKind::Simplex, n)
+                  : bcassim::starSigmaPoints(n);
       bcassim::UkfCovarianceShare share(size, bcassim::compactColumns(set), set.weights);
       share.covariance().scatter(rank == 0 ? spd.data() : nullptr);
       const Eigen::VectorXd x = F.col(0);
@@ -185,8 +184,8 @@ int main(int argc, char** argv) {
                               : (X - whole.middleCols(b.first, b.count)).cwiseAbs().maxCoeff() /
                                     (whole.colwise() - x).cwiseAbs().maxCoeff();
       MPI_Allreduce(MPI_IN_PLACE, &d, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-      check(d < 1e-13, simplex ? "each rank's simplex sigma points" : "each rank's star sigma points",
-            n, d);
+      check(d < 1e-13,
+            simplex ? "each rank's simplex sigma points" : "each rank's star sigma points", n, d);
     }
   }
   if (rank == 0 && failures == 0)
