@@ -90,7 +90,9 @@ int main(int argc, char** argv) {
       const double d = normwise(alone, back);
       check(d < 1e-13, "Gram matrix over the ranks against the whole one", n, d);
     }
-    // The Kalman update.
+    // The Kalman update, undone by restore().
+    const Eigen::MatrixXd gram = back;
+    P.keep();
     Eigen::MatrixXd G(7, n);
     for (Eigen::Index i = 0; i < G.size(); ++i) G(i) = 1e-4 * g(rng);
     P.subtractGram(G);
@@ -101,6 +103,9 @@ int main(int argc, char** argv) {
       const double d = normwise(updated, back);
       check(d < 1e-13, "P -= G^T G piece by piece", n, d);
     }
+    P.restore();
+    back = gathered(P, rank);
+    if (rank == 0) check(back == gram, "restore puts the kept matrix back", n, 0);
 
     // The factor, its columns and suffix sums.
     Eigen::MatrixXd spd = alone;
