@@ -143,7 +143,8 @@ def model(name, S, n, m):
 # one rank shared by R and its panels broadcast down a tree; X the factor's columns: each rank's
 # n x S/R share over the link, its copies (one rank's measured, / R) and the suffix sums'
 # reduce-scatter (n R doubles); Gr the Gram matrix's reduce-scatter of the packed lower triangle
-# (ring: (R-1)/R of it over each link and summed, the sum per byte measured at 2 ranks) and the
+# (ring: (R-1)/R of it over each link and summed, the sum per byte measured at 2 ranks, the
+# reduce-scatter alone with every rank ready) and the
 # mean's reduce and broadcast; Cr the correction: H's columns scattered, the products (measured on
 # one rank) shared by R, G reduced and broadcast; C rank 0's messages (the commands, the mean out
 # twice, the observables back).
@@ -154,10 +155,11 @@ def ukf_shared_model(S, n, m):
                        r"sigma points ([0-9.]+) ms, update ([0-9.]+) ms; kept over the ranks: draw "
                        r"([0-9.]+) ms \(factor ([0-9.]+), pdpotrf ([0-9.]+), factor's columns "
                        r"([0-9.]+), own points ([0-9.]+)\), mean and gram ([0-9.]+) ms \(products "
-                       r"([0-9.]+), reduce-scatter ([0-9.]+)\), correction ([0-9.]+) ms", line)
+                       r"([0-9.]+), reduce-scatter ([0-9.]+)\), correction ([0-9.]+) ms; "
+                       r"reduce-scatter alone ([0-9.]+) ms", line)
         if mm:
             keys = ["gram", "chol", "points", "update", "draw", "factor", "pdpotrf", "columns",
-                    "own", "moments", "products", "reduce", "correct"]
+                    "own", "moments", "products", "reduce", "correct", "reduce_alone"]
             dense[int(mm.group(1))] = dict(zip(keys, (float(v) / 1e3 for v in mm.groups()[1:])))
     one, two = dense[1], dense[2]
     total1, forecast1, _ = steps("ukf", "1x1")
@@ -173,7 +175,8 @@ def ukf_shared_model(S, n, m):
     g, p = one["products"] / S, one["own"] / S
     A = max(T2 - F2 - gram2 - corr2, 0.0)
     half = 8 * n * (n + 1) / 2  # bytes of the packed lower triangle, about
-    sum_per_byte = max(two["reduce"] - half / 2 / bandwidth, 0.0) / (half / 2)
+    # A ring reduce-scatter: (R-1)/R of the matrix over each link and summed; at 2 ranks, half.
+    sum_per_byte = max(two["reduce_alone"] - half / 2 / bandwidth, 0.0) / (half / 2)
     print(f"\nukf model (covariance kept over the ranks): S {S}, n {n}, m {m}, t {1e3 * t:.3f} ms "
           f"per sigma point, Gram products {1e3 * g:.3f} ms and point {1e3 * p:.4f} ms per column, "
           f"A {1e3 * A:.1f} ms rank 0's own work (2x1 step {1e3 * T2:.0f} - forecasts "
