@@ -35,7 +35,7 @@ UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
   P_->assign(s.initialStddev().array().square().matrix().asDiagonal());
 }
 
-void UkfFilter::reset(Eigen::VectorXd mean, Eigen::MatrixXd covariance) {
+void UkfFilter::reset(Eigen::VectorXd mean, const Eigen::MatrixXd& covariance) {
   const Eigen::Index n = ensemble_.layout().size();
   if (mean.size() != n || covariance.rows() != n || covariance.cols() != n)
     throw InputError(fmt::format("UKF state must have {} entries and a {}x{} covariance", n, n, n));

@@ -44,7 +44,7 @@ class UkfFilter final : public Filter {
 
   // Replaces the estimate (restoring a checkpoint, or a prior with correlations). A covariance that
   // is not positive definite is repaired at the next step and reported there.
-  void reset(Eigen::VectorXd mean, Eigen::MatrixXd covariance);
+  void reset(Eigen::VectorXd mean, const Eigen::MatrixXd& covariance);
 
  private:
   ForecastEnsemble ensemble_;
