@@ -120,8 +120,10 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   }
   report.seconds.correction = secondsSince(correctionStart);
 
+  // Before endStep: P kept over processes answers at once, not after their models' end of step.
+  const Eigen::VectorXd variance = P_->diagonal();
   ensemble_.endStep(x_);
-  ensemble_.layout().toReported(x_, P_->diagonal().cwiseMax(0.0).cwiseSqrt(), report.mean,
+  ensemble_.layout().toReported(x_, variance.cwiseMax(0.0).cwiseSqrt(), report.mean,
                                 report.stddev);
   report.covarianceRepairs = repairs.repairs;
   report.largestJitter = repairs.largestJitter;
