@@ -9,6 +9,7 @@
 #include <mpi.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -78,11 +79,13 @@ int main(int argc, char** argv) {
       check(back == expected, "diagonal added", n, 0);
     }
 
-    // The Gram matrix: rank 0 the first 5 columns, the next ranks the rest, the last rank none.
-    int first = 0, count = 5;
+    // The Gram matrix: rank 0 the first 5 columns, the next ranks the rest, the last rank none
+    // (with 3 ranks or more; alone or with 2, the last rank takes what is left).
+    const int sharing = std::max(size - 2, 1);
+    int first = 0, count = size == 1 ? S : 5;
     for (int r = 1; r <= rank; ++r) {
       first += count;
-      count = r == size - 1 ? 0 : (S - 5) / (size - 2) + (r == 1 ? (S - 5) % (size - 2) : 0);
+      count = r == size - 1 && size > 2 ? 0 : (S - 5) / sharing + (r == 1 ? (S - 5) % sharing : 0);
     }
     P.assignGram(deviations.middleCols(first, count), w.segment(first, count));
     back = gathered(P, rank);
