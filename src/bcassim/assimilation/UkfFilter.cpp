@@ -123,8 +123,7 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   // Before endStep: P kept over processes answers at once, not after their models' end of step.
   const Eigen::VectorXd variance = P_->diagonal();
   ensemble_.endStep(x_);
-  ensemble_.layout().toReported(x_, variance.cwiseMax(0.0).cwiseSqrt(), report.mean,
-                                report.stddev);
+  ensemble_.layout().toReported(x_, variance.cwiseMax(0.0).cwiseSqrt(), report.mean, report.stddev);
   report.covarianceRepairs = repairs.repairs;
   report.largestJitter = repairs.largestJitter;
   report.seconds.total = secondsSince(start);
