@@ -82,8 +82,9 @@ TEST(SigmaPoints, StructuredPointsAndLargeKernelsEqualTheDenseFormulas) {
   EXPECT_FALSE(choleskyLower(notSpd, S));
 }
 
-// The UKF's correction on the system BLAS from kLargeDense rows: P_xz = dX W dZ^T and P -= G^T G
-// equal Eigen's products, and the lower-triangle Gram of a block of columns equals the full one.
+// The UKF's correction on the system BLAS from kLargeDense rows: P_xz = dX W dZ^T, its transpose
+// as A dX^T and P -= G^T G equal Eigen's products, and the lower-triangle Gram of a block of
+// columns equals the full one.
 TEST(SigmaPoints, LargeCorrectionKernelsEqualEigensProducts) {
   std::mt19937 rng(9);
   std::normal_distribution<double> g(0.0, 1.0);
@@ -98,6 +99,13 @@ TEST(SigmaPoints, LargeCorrectionKernelsEqualEigensProducts) {
   multiply(dX, right, Pxz);
   const Eigen::MatrixXd PxzEigen = dX * right;
   EXPECT_LT((Pxz - PxzEigen).cwiseAbs().maxCoeff(), 1e-13 * PxzEigen.cwiseAbs().maxCoeff());
+  // G = H dX^T (a distributed UKF's gain share), dX read in place, and with no columns: zero.
+  Eigen::MatrixXd Gt;
+  multiplyByTranspose(right.transpose(), dX, Gt);
+  EXPECT_LT((Gt - PxzEigen.transpose()).cwiseAbs().maxCoeff(),
+            1e-13 * PxzEigen.cwiseAbs().maxCoeff());
+  multiplyByTranspose(Eigen::MatrixXd(m, 0), Eigen::MatrixXd(n, 0), Gt);
+  EXPECT_EQ(Gt, Eigen::MatrixXd::Zero(m, n));
 
   Eigen::MatrixXd P = testing::randomSpd(n, rng), PEigen = P;
   subtractGram(G, P);

@@ -60,6 +60,22 @@ void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A,
   dgemm_("N", "N", &m, &n, &k, &one, A.data(), &lda, B.data(), &ldb, &zero, C.data(), &m);
 }
 
+void multiplyByTranspose(const Eigen::Ref<const Eigen::MatrixXd>& A,
+                         const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::MatrixXd& C,
+                         Eigen::Index largeFrom) {
+  if (A.cols() != B.cols()) throw std::invalid_argument("multiplyByTranspose: sizes disagree");
+  if (B.rows() < largeFrom || A.rows() == 0 || A.cols() == 0) {
+    C.noalias() = A * B.transpose();
+    return;
+  }
+  C.resize(A.rows(), B.rows());
+  const int m = static_cast<int>(A.rows()), n = static_cast<int>(B.rows());
+  const int k = static_cast<int>(A.cols());
+  const int lda = static_cast<int>(A.outerStride()), ldb = static_cast<int>(B.outerStride());
+  const double one = 1.0, zero = 0.0;
+  dgemm_("N", "T", &m, &n, &k, &one, A.data(), &lda, B.data(), &ldb, &zero, C.data(), &m);
+}
+
 void subtractGram(const Eigen::Ref<const Eigen::MatrixXd>& G, Eigen::MatrixXd& P,
                   Eigen::Index largeFrom) {
   const Eigen::Index n = P.rows();

@@ -25,6 +25,12 @@ void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A,
               const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::MatrixXd& C,
               Eigen::Index largeFrom = kLargeDense);
 
+// C = A B^T, B read in place (no transposed copy; dgemm from kLargeDense columns of B^T). Zero
+// columns in common give C = 0.
+void multiplyByTranspose(const Eigen::Ref<const Eigen::MatrixXd>& A,
+                         const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::MatrixXd& C,
+                         Eigen::Index largeFrom = kLargeDense);
+
 // P -= G^T G for a symmetric P (n x n) and a short G (k x n): the Kalman update of a covariance.
 void subtractGram(const Eigen::Ref<const Eigen::MatrixXd>& G, Eigen::MatrixXd& P,
                   Eigen::Index largeFrom = kLargeDense);

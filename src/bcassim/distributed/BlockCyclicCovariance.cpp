@@ -82,6 +82,19 @@ BlockCyclicCovariance::BlockCyclicCovariance(int ranks, int n)
   const Piece& mine = pieces_[static_cast<size_t>(rank_)];
   packed_.setZero(mine.packedSize);
   local_.setZero(std::max(1, mine.localRows()), std::max(1, mine.localCols()));
+  // This rank's diagonal entries: where they sit in the packed piece.
+  for (int lj = 0; lj < mine.localCols(); ++lj) {
+    const int j = mine.globalCol[static_cast<size_t>(lj)];
+    const auto row = std::lower_bound(mine.globalRow.begin(), mine.globalRow.end(), j);
+    if (row == mine.globalRow.end() || *row != j) continue;
+    diagonalIndex_.push_back(j);
+    diagonalAt_.push_back(mine.offset[static_cast<size_t>(lj)] + (row - mine.globalRow.begin()) -
+                          mine.rowStart[static_cast<size_t>(lj)]);
+  }
+  const int zero = 0, lld = std::max(1, mine.localRows());
+  int info = 0;
+  descinit_(descriptor_.data(), &n_, &n_, &block_, &block_, &zero, &zero, &grid_, &lld, &info);
+  if (info != 0) throw std::runtime_error(fmt::format("ScaLAPACK descinit: argument {}", -info));
 }
 
 BlockCyclicCovariance::Piece BlockCyclicCovariance::describe(int rank) const {
@@ -148,15 +161,8 @@ void BlockCyclicCovariance::gather(double* P) const {
 }
 
 Eigen::VectorXd BlockCyclicCovariance::diagonal() const {
-  const Piece& p = pieces_[static_cast<size_t>(rank_)];
   Eigen::VectorXd mine = Eigen::VectorXd::Zero(n_), all(rank_ == 0 ? n_ : 0);
-  for (int lj = 0; lj < p.localCols(); ++lj) {
-    const int j = p.globalCol[static_cast<size_t>(lj)];
-    const auto row = std::lower_bound(p.globalRow.begin(), p.globalRow.end(), j);
-    if (row == p.globalRow.end() || *row != j) continue;
-    const auto li = static_cast<int>(row - p.globalRow.begin());
-    mine(j) = packed_(p.offset[static_cast<size_t>(lj)] + li - p.rowStart[static_cast<size_t>(lj)]);
-  }
+  for (size_t k = 0; k < diagonalAt_.size(); ++k) mine(diagonalIndex_[k]) = packed_(diagonalAt_[k]);
   // Each entry is held by one rank: the sum adds zeros to it, exactly.
   checkMpi(MPI_Reduce(mine.data(), all.data(), n_, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD),
            "gathering the covariance's diagonal");
@@ -165,14 +171,7 @@ Eigen::VectorXd BlockCyclicCovariance::diagonal() const {
 
 void BlockCyclicCovariance::addToDiagonal(const Eigen::VectorXd& q) {
   if (q.size() != n_) throw std::invalid_argument("BlockCyclicCovariance: one entry per row");
-  const Piece& p = pieces_[static_cast<size_t>(rank_)];
-  for (int lj = 0; lj < p.localCols(); ++lj) {
-    const int j = p.globalCol[static_cast<size_t>(lj)];
-    const auto row = std::lower_bound(p.globalRow.begin(), p.globalRow.end(), j);
-    if (row == p.globalRow.end() || *row != j) continue;
-    const auto li = static_cast<int>(row - p.globalRow.begin());
-    packed_(p.offset[static_cast<size_t>(lj)] + li - p.rowStart[static_cast<size_t>(lj)]) += q(j);
-  }
+  for (size_t k = 0; k < diagonalAt_.size(); ++k) packed_(diagonalAt_[k]) += q(diagonalIndex_[k]);
 }
 
 void BlockCyclicCovariance::unpackToLocal(const Eigen::VectorXd& packed) {
@@ -188,26 +187,14 @@ void BlockCyclicCovariance::factor(RepairLog& log) {
   const Piece& p = pieces_[static_cast<size_t>(rank_)];
   if (allMin(packed_.allFinite() ? 1 : 0) == 0)
     throw NumericalError("covariance has non-finite entries");
-  // This rank's diagonal entries: their packed positions.
-  std::vector<long long> diagonal;
-  for (int lj = 0; lj < p.localCols(); ++lj) {
-    const int j = p.globalCol[static_cast<size_t>(lj)];
-    const auto row = std::lower_bound(p.globalRow.begin(), p.globalRow.end(), j);
-    if (row != p.globalRow.end() && *row == j)
-      diagonal.push_back(p.offset[static_cast<size_t>(lj)] + (row - p.globalRow.begin()) -
-                         p.rowStart[static_cast<size_t>(lj)]);
-  }
-  const int one = 1, zero = 0, lld = std::max(1, p.localRows());
-  std::array<int, 9> descriptor{};
-  int info = 0;
-  descinit_(descriptor.data(), &n_, &n_, &block_, &block_, &zero, &zero, &grid_, &lld, &info);
-  if (info != 0) throw std::runtime_error(fmt::format("ScaLAPACK descinit: argument {}", -info));
+  const std::vector<long long>& diagonal = diagonalAt_;
+  const int one = 1;
   lastFactorSeconds_ = 0;
   const auto tryFactor = [&](const Eigen::VectorXd& packed) {
     unpackToLocal(packed);
     const Clock::time_point start = Clock::now();
     int status = 0;
-    pdpotrf_("L", &n_, local_.data(), &one, &one, descriptor.data(), &status);
+    pdpotrf_("L", &n_, local_.data(), &one, &one, descriptor_.data(), &status);
     lastFactorSeconds_ += secondsSince(start);
     if (status < 0)
       throw std::runtime_error(fmt::format("ScaLAPACK pdpotrf: argument {}", -status));

@@ -7,6 +7,7 @@
 // arguments (except where one says rank 0).
 #pragma once
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "bcassim/assimilation/CovarianceRepair.h"
@@ -78,8 +79,11 @@ class BlockCyclicCovariance {
   int grid_ = -1, gridRows_ = 1, gridCols_ = 1;
   std::vector<Piece> pieces_;  // every rank's
   std::vector<int> packedCounts_, packedOffsets_;
-  Eigen::VectorXd packed_, kept_;  // this rank's lower piece, packed
-  Eigen::MatrixXd local_;          // this rank's factor (ScaLAPACK's local layout)
+  std::vector<int> diagonalIndex_;     // this rank's diagonal entries (global index)
+  std::vector<long long> diagonalAt_;  // and where they sit in the packed piece
+  std::array<int, 9> descriptor_{};    // ScaLAPACK's for the local piece
+  Eigen::VectorXd packed_, kept_;      // this rank's lower piece, packed
+  Eigen::MatrixXd local_;              // this rank's factor (ScaLAPACK's local layout)
   mutable Eigen::VectorXd sendBuffer_, receiveBuffer_;  // kept between steps
   double lastFactorSeconds_ = 0, lastGramProductSeconds_ = 0, lastGramReduceSeconds_ = 0;
 };

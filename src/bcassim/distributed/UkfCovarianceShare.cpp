@@ -6,12 +6,8 @@
 #include <stdexcept>
 
 #include "bcassim/Stopwatch.h"
+#include "bcassim/assimilation/LargeDenseKernels.h"
 #include "bcassim/distributed/MpiSession.h"
-
-extern "C" void dgemm_(const char* transa, const char* transb, const int* m, const int* n,
-                       const int* k, const double* alpha, const double* a, const int* lda,
-                       const double* b, const int* ldb, const double* beta, double* c,
-                       const int* ldc);
 
 namespace bcassim {
 
@@ -53,6 +49,11 @@ UkfCovarianceShare::UkfCovarianceShare(int ranks, SigmaPointColumns columns,
       blocks_(equalColumnBlocks(static_cast<int>(weights_.size()), ranks)),
       P_(ranks, static_cast<int>(columns_.rows)) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  // The blocks are the same every step: so are the factor's columns each rank reads.
+  for (const ColumnBlock& b : blocks_) {
+    needed_.push_back(columns_.factorColumns(b.first, b.count));
+    after_.push_back(b.first + b.count);
+  }
 }
 
 Eigen::MatrixXd UkfCovarianceShare::drawPoints(const Eigen::VectorXd& x, double spread,
@@ -60,17 +61,11 @@ Eigen::MatrixXd UkfCovarianceShare::drawPoints(const Eigen::VectorXd& x, double 
   const Clock::time_point start = Clock::now();
   P_.factor(repairs);
   const Clock::time_point factored = Clock::now();
-  std::vector<std::vector<Eigen::Index>> needed;
-  std::vector<Eigen::Index> after;
-  for (const ColumnBlock& b : blocks_) {
-    needed.push_back(columns_.factorColumns(b.first, b.count));
-    after.push_back(b.first + b.count);
-  }
   Eigen::MatrixXd columns;
-  P_.factorColumns(needed, columns);
+  P_.factorColumns(needed_, columns);
   Eigen::VectorXd suffix;
   if (columns_.structure == UnitStructure::Simplex)
-    suffix = spread * P_.factorSuffixSum(after, columns_.suffixCoefficient);
+    suffix = spread * P_.factorSuffixSum(after_, columns_.suffixCoefficient);
   columns *= spread;
   const Clock::time_point handed = Clock::now();
   const ColumnBlock b = block();
@@ -119,13 +114,8 @@ Eigen::MatrixXd UkfCovarianceShare::correct(const Eigen::MatrixXd* H, int m) {
   checkMpi(MPI_Scatterv(H != nullptr ? H->data() : nullptr, counts.data(), offsets.data(),
                         MPI_DOUBLE, mine.data(), m * b.count, MPI_DOUBLE, 0, MPI_COMM_WORLD),
            "sending the correction's weights to the ranks");
-  // G's share H_r D_r^T, D read in place (no transposed copy).
-  Eigen::MatrixXd partial = Eigen::MatrixXd::Zero(m, columns_.rows);
-  const int n = static_cast<int>(columns_.rows), c = b.count;
-  const double one = 1.0, zero = 0.0;
-  if (m > 0 && c > 0)
-    dgemm_("N", "T", &m, &n, &c, &one, mine.data(), &m, deviations_.data(), &n, &zero,
-           partial.data(), &m);
+  Eigen::MatrixXd partial;  // G's share H_r D_r^T
+  multiplyByTranspose(mine, deviations_, partial);
   Eigen::MatrixXd G(m, columns_.rows);
   checkMpi(MPI_Reduce(partial.data(), G.data(), static_cast<int>(G.size()), MPI_DOUBLE, MPI_SUM, 0,
                       MPI_COMM_WORLD),

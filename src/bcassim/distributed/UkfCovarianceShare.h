@@ -54,6 +54,8 @@ class UkfCovarianceShare {
   SigmaPointColumns columns_;
   Eigen::VectorXd weights_;
   std::vector<ColumnBlock> blocks_;
+  std::vector<std::vector<Eigen::Index>> needed_;  // per rank: the factor's columns it reads
+  std::vector<Eigen::Index> after_;                // per rank: the first column past its block
   BlockCyclicCovariance P_;
   Eigen::MatrixXd forecasts_, deviations_;
   UkfShareTimes times_;
