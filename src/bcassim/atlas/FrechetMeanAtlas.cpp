@@ -6,8 +6,8 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/atlas/ControlPoints.h"
-#include "bcassim/atlas/FaceKernelDistance.h"
 #include "bcassim/atlas/Lbfgs.h"
+#include "bcassim/atlas/MultiObjectDistance.h"
 #include "bcassim/atlas/RegistrationObjective.h"
 
 namespace bcassim {
@@ -16,13 +16,17 @@ struct AtlasObjective::Impl {
   TriMesh tmpl;
   GeodesicShooting shooting;
   Eigen::MatrixX3d q0;
-  std::vector<std::unique_ptr<FaceKernelDistance>> distances;
+  std::vector<std::unique_ptr<SurfaceDistance>> distances;
   std::vector<std::unique_ptr<RegistrationObjective>> terms;
 };
 
 AtlasObjective::AtlasObjective(const TriMesh& initialTemplate, const std::vector<TriMesh>& shapes,
-                               const RegistrationOptions& o) {
+                               const RegistrationOptions& o, const std::vector<CurvePair>* curves) {
   if (shapes.empty()) throw InputError("atlas: no shapes");
+  if (curves && curves->size() != shapes.size()) {
+    throw InputError(
+        fmt::format("atlas: {} curve pairs for {} shapes", curves->size(), shapes.size()));
+  }
   auto impl = std::make_unique<Impl>(
       Impl{initialTemplate,
            GeodesicShooting(o.sigmaV, o.shooting),
@@ -31,8 +35,8 @@ AtlasObjective::AtlasObjective(const TriMesh& initialTemplate, const std::vector
            {},
            {}});
   const double weight = o.dataWeight > 0.0 ? o.dataWeight : 1.0 / (o.sigmaW * o.sigmaW);
-  for (const TriMesh& shape : shapes) {
-    impl->distances.push_back(std::make_unique<FaceKernelDistance>(shape, o.sigmaW, o.dataTerm));
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    impl->distances.push_back(makeDataTerm(shapes[i], o, curves ? &(*curves)[i] : nullptr));
     impl->terms.push_back(std::make_unique<RegistrationObjective>(
         impl->tmpl, *impl->distances.back(), impl->shooting, impl->q0, weight));
   }
@@ -71,8 +75,9 @@ double AtlasObjective::evaluate(const Eigen::MatrixX3d& x, Eigen::MatrixX3d* gra
 
 AtlasResult buildFrechetMeanAtlas(const TriMesh& initialTemplate,
                                   const std::vector<TriMesh>& shapes,
-                                  const RegistrationOptions& options) {
-  const AtlasObjective objective(initialTemplate, shapes, options);
+                                  const RegistrationOptions& options,
+                                  const std::vector<CurvePair>* curves) {
+  const AtlasObjective objective(initialTemplate, shapes, options, curves);
   const Eigen::Index nv = initialTemplate.V.rows(), nq = objective.controlPoints().rows();
   const auto n = static_cast<Eigen::Index>(shapes.size());
   Eigen::MatrixX3d x0 = Eigen::MatrixX3d::Zero(nv + n * nq, 3);

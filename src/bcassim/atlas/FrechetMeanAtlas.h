@@ -24,17 +24,21 @@ struct AtlasResult {
 // initialTemplate: starting shape and connectivity (e.g. a rigidly aligned database shape);
 // shapes: the database, in the same frame (m). Uses the registration options (kernels, data
 // term, shooting, L-BFGS; control points default to a grid over the initial template).
+// curves (optional, one per shape): a curve on the template and on shape i, matched too
+// (multi-object data term; an empty pair: that shape's surface alone).
 // Throws InputError on an empty database or bad options.
 AtlasResult buildFrechetMeanAtlas(const TriMesh& initialTemplate,
                                   const std::vector<TriMesh>& shapes,
-                                  const RegistrationOptions& options = {});
+                                  const RegistrationOptions& options = {},
+                                  const std::vector<CurvePair>* curves = nullptr);
 
 // Value of eq. 4.8 and its gradient, for tests and custom optimisers: x stacks the template
 // vertices (#V rows) then each shape's momenta (#q rows each), as one #V + n #q by 3 matrix.
 class AtlasObjective {
  public:
   AtlasObjective(const TriMesh& initialTemplate, const std::vector<TriMesh>& shapes,
-                 const RegistrationOptions& options);
+                 const RegistrationOptions& options,
+                 const std::vector<CurvePair>* curves = nullptr);
   ~AtlasObjective();  // out of line: Impl is complete only in the .cpp
   double evaluate(const Eigen::MatrixX3d& x, Eigen::MatrixX3d* grad,
                   std::vector<double>* data = nullptr) const;

@@ -4,7 +4,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/atlas/ControlPoints.h"
-#include "bcassim/atlas/FaceKernelDistance.h"
+#include "bcassim/atlas/MultiObjectDistance.h"
 #include "bcassim/atlas/RegistrationObjective.h"
 
 namespace bcassim {
@@ -23,11 +23,12 @@ Eigen::MatrixX3d unflatten(const Eigen::VectorXd& v) {
 }  // namespace
 
 RegistrationResult registerSurface(const TriMesh& source, const TriMesh& target,
-                                   const RegistrationOptions& options) {
+                                   const RegistrationOptions& options, const CurvePair* curves) {
   if (source.F.rows() == 0 || target.F.rows() == 0) {
     throw InputError("registration: source and target need triangles");
   }
-  const FaceKernelDistance distance(target, options.sigmaW, options.dataTerm);
+  const std::unique_ptr<SurfaceDistance> data = makeDataTerm(target, options, curves);
+  const SurfaceDistance& distance = *data;
   const GeodesicShooting shooting(options.sigmaV, options.shooting);
   Eigen::MatrixX3d q0 = options.controlPoints.rows() > 0
                             ? options.controlPoints

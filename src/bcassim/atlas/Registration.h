@@ -19,6 +19,15 @@ struct RegistrationOptions {
   LbfgsOptions lbfgs;               // firstStepMaxNorm <= 0: 0.05 sigmaV
   Eigen::MatrixX3d controlPoints;   // #q by 3; empty: regular grid over the source, spacing sigmaV
   Eigen::MatrixX3d initialMomenta;  // #q by 3; empty: zero
+  // Weight of a curve drawn on both surfaces (CurvePair) in the multi-object data term,
+  // relative to the surface's (MultiObjectDistance.h); 0: the surfaces alone.
+  double curveWeight = 1.0;
+};
+
+// A curve drawn on the source and on the target surface (the liver's ridge, .eseg label 3), as
+// edges: vertex pairs of each surface. Either one empty: no curve term.
+struct CurvePair {
+  Eigen::MatrixX2i source, target;
 };
 
 struct RegistrationResult {
@@ -33,8 +42,10 @@ struct RegistrationResult {
   bool converged = false;
 };
 
+// curves (optional): a curve on both surfaces, matched too (multi-object data term).
 // Throws InputError on bad options or meshes.
 RegistrationResult registerSurface(const TriMesh& source, const TriMesh& target,
-                                   const RegistrationOptions& options = {});
+                                   const RegistrationOptions& options = {},
+                                   const CurvePair* curves = nullptr);
 
 }  // namespace bcassim
