@@ -24,4 +24,15 @@ double distanceToPolyline(const Eigen::Vector3d& p, const Eigen::MatrixX3d& poly
 CurveDistance compareCurves(const Eigen::MatrixX3d& expert, const Eigen::MatrixX3d& predicted,
                             const CuttingPlaneFamily& planes);
 
+// The same against the expert's whole annotated band instead of one path through it: band =
+// edges (vertex pairs of V) carrying the curve's label. A plane counts when the band and the
+// predicted curve both cross it; its distance is from the predicted crossing to the nearest
+// crossing of a band edge (a strip of mesh edges crosses a plane about once per edge across its
+// width, so a prediction inside the band is within about half an edge of one); the point
+// distances are from every band vertex. Throws
+// InputError on an empty band or curve, or an edge index out of range.
+CurveDistance compareCurveToBand(const Eigen::MatrixX3d& V, const Eigen::MatrixX2i& band,
+                                 const Eigen::MatrixX3d& predicted,
+                                 const CuttingPlaneFamily& planes);
+
 }  // namespace bcassim
