@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "bcassim/Error.h"
@@ -88,6 +90,7 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
   double bestRms = std::numeric_limits<double>::infinity();
   double plausibleRms = std::numeric_limits<double>::infinity();
   RigidTransform best, plausible;
+  std::vector<std::pair<double, RigidTransform>> allowed;  // every probe within the limit
   for (const Eigen::Matrix3d& R : rotations) {
     double rms = std::numeric_limits<double>::infinity();
     const RigidTransform t = icp(source, locator, start(source, target, R), probe, &rms);
@@ -95,10 +98,12 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
       bestRms = rms;
       best = t;
     }
-    if (rotationAngleDegrees(t.rotation) <= maxRotationDegrees &&
-        rms < plausibleRms * (1.0 - 1e-9)) {
-      plausibleRms = rms;
-      plausible = t;
+    if (rotationAngleDegrees(t.rotation) <= maxRotationDegrees) {
+      allowed.emplace_back(rms, t);
+      if (rms < plausibleRms * (1.0 - 1e-9)) {
+        plausibleRms = rms;
+        plausible = t;
+      }
     }
   }
   // No start stays within the limit: the best fit, unflagged.
@@ -117,10 +122,118 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
       r.rejectedRotationDegrees = rotationAngleDegrees(refused.rotation);
     }
   }
+  // Rival poses: probes that ended near the chosen one's fit but far from its pose, refined
+  // (at most three, best first). One that still fits within 3 % makes the pose ambiguous; the
+  // signed principal axes then choose among them.
+  if (std::isfinite(plausibleRms)) {
+    constexpr double kExactFit = 1e-9;  // m: fits closer than this are alike whatever their ratio
+    constexpr double kAxesTie = 1e-3;   // skewness units (LiTS-9's two poses: 0.32 and 0.30)
+    const RigidTransform& chosenProbe = restricted ? plausible : best;
+    std::sort(allowed.begin(), allowed.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    struct Pose {
+      RigidTransform t;
+      double rms, agreement;
+    };
+    const SignedAxes sa = signedAxes(source), ta = signedAxes(target);
+    std::vector<Pose> poses{{out, r.rms, axesAgreement(sa, ta, out.rotation)}};
+    int refined = 0;
+    for (const auto& [probeRms, t] : allowed) {
+      if (refined == 3 || probeRms > 1.1 * plausibleRms + kExactFit) break;
+      if (rotationAngleDegrees(t.rotation * chosenProbe.rotation.transpose()) < kRivalPoseDegrees)
+        continue;
+      ++refined;
+      double rivalRms = 0.0;
+      const RigidTransform rival = icp(source, locator, t, options, &rivalRms);
+      const bool distinct = std::all_of(poses.begin(), poses.end(), [&](const Pose& p) {
+        return rotationAngleDegrees(rival.rotation * p.t.rotation.transpose()) >= kRivalPoseDegrees;
+      });
+      if (distinct && rotationAngleDegrees(rival.rotation) <= maxRotationDegrees &&
+          rivalRms <= 1.03 * r.rms + kExactFit) {
+        poses.push_back({rival, rivalRms, axesAgreement(sa, ta, rival.rotation)});
+      }
+    }
+    if (poses.size() > 1) {
+      // Agreements within kAxesTie count as a tie, won by the better fit (listed first).
+      std::stable_sort(poses.begin(), poses.end(), [](const Pose& a, const Pose& b) {
+        return a.agreement > b.agreement + kAxesTie;
+      });
+      r.ambiguous = true;
+      out = poses[0].t;
+      r.rms = poses[0].rms;
+      r.axesAgreement = poses[0].agreement;
+      r.rivalRms = poses[1].rms;
+      r.rivalAxesAgreement = poses[1].agreement;
+      r.rivalApartDegrees = rotationAngleDegrees(poses[1].t.rotation * out.rotation.transpose());
+    }
+  }
   r.rotationDegrees = rotationAngleDegrees(out.rotation);
   if (rmsOut) *rmsOut = r.rms;
   if (report) *report = r;
   return out;
+}
+
+std::vector<std::string> poseDoubts(const MultiStartReport& r, double maxRotationDegrees) {
+  std::vector<std::string> out;
+  if (r.rejected) {
+    out.push_back(fmt::format(
+        "the best rigid fit turns it {:.0f} deg (RMS {:.1f} mm), implausible for livers in scanner "
+        "axes; kept the best within {:.0f} deg: {:.0f} deg (RMS {:.1f} mm)",
+        r.rejectedRotationDegrees, 1e3 * r.rejectedRms, maxRotationDegrees, r.rotationDegrees,
+        1e3 * r.rms));
+  }
+  if (r.ambiguous) {
+    out.push_back(fmt::format(
+        "two poses {:.0f} deg apart fit alike (RMS {:.1f} and {:.1f} mm); kept the one whose "
+        "signed principal axes agree better with the other shape's ({:.2f} against {:.2f}; "
+        "check the orientation)",
+        r.rivalApartDegrees, 1e3 * r.rms, 1e3 * r.rivalRms, r.axesAgreement, r.rivalAxesAgreement));
+  }
+  return out;
+}
+
+SignedAxes signedAxes(const TriMesh& m) {
+  // Area-weighted face centres: the surface's own distribution, whatever its sampling.
+  double area = 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::vector<std::pair<double, Eigen::Vector3d>> faces;
+  faces.reserve(static_cast<size_t>(m.F.rows()));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Eigen::Vector3d p0 = m.V.row(m.F(f, 0)).transpose();
+    const Eigen::Vector3d p1 = m.V.row(m.F(f, 1)).transpose();
+    const Eigen::Vector3d p2 = m.V.row(m.F(f, 2)).transpose();
+    const double a = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    faces.emplace_back(a, (p0 + p1 + p2) / 3.0);
+    area += a;
+    mean += a * faces.back().second;
+  }
+  SignedAxes out;
+  if (!(area > 0.0)) return out;
+  mean /= area;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& [a, c] : faces) cov += a * (c - mean) * (c - mean).transpose();
+  cov /= area;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d axis = eig.eigenvectors().col(2 - k);  // decreasing variance
+    const double variance = eig.eigenvalues()(2 - k);
+    double third = 0.0;
+    for (const auto& [a, c] : faces) third += a * std::pow(axis.dot(c - mean), 3);
+    third /= area;
+    const double skew = variance > 0.0 ? third / std::pow(variance, 1.5) : 0.0;
+    out.axes.col(k) = skew < 0.0 ? Eigen::Vector3d(-axis) : axis;
+    out.skewness(k) = std::abs(skew);
+  }
+  return out;
+}
+
+double axesAgreement(const SignedAxes& source, const SignedAxes& target, const Eigen::Matrix3d& R) {
+  double sum = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double w = std::min(source.skewness(k), target.skewness(k));
+    sum += w * (R * source.axes.col(k)).dot(target.axes.col(k));
+  }
+  return sum;
 }
 
 namespace {

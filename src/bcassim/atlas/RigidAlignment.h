@@ -2,6 +2,8 @@
 // and orientation, keeps shape): Procrustes for paired points, ICP for surfaces.
 #pragma once
 #include <Eigen/Core>
+#include <string>
+#include <vector>
 
 #include "bcassim/mesh/RigidTransform.h"
 #include "bcassim/mesh/TriMesh.h"
@@ -29,13 +31,42 @@ RigidTransform alignRigidly(const TriMesh& source, const TriMesh& target,
 // expert's). A fit turned further is an implausible pose.
 inline constexpr double kScannerFrameMaxRotationDegrees = 90.0;
 
-// What alignRigidlyMultiStart chose, and the better fit it refused, if any.
+// What alignRigidlyMultiStart chose, the better fit it refused, if any, and a rival pose that
+// fits as well.
 struct MultiStartReport {
   double rms = 0.0;              // m, RMS closest-point distance of the returned transform
   double rotationDegrees = 0.0;  // angle of the returned rotation
   bool rejected = false;         // a start turned more than allowed fitted >= 1 % better, refined
   double rejectedRms = 0.0, rejectedRotationDegrees = 0.0;
+  // Two allowed poses at least kRivalPoseDegrees apart fit within 3 % of each other (the surface
+  // alone cannot tell them apart: LiTS-9, 55 and 59 deg from the scanner axes, 9.3 mm RMS each,
+  // its curve 25 or 93 mm off). The returned one agrees better with the target's signed
+  // principal axes (SignedAxes below); the rival's figures are kept for the user.
+  bool ambiguous = false;
+  double rivalRms = 0.0, rivalApartDegrees = 0.0;
+  double axesAgreement = 0.0, rivalAxesAgreement = 0.0;  // axesAgreement() of each
 };
+
+inline constexpr double kRivalPoseDegrees = 30.0;
+
+// The report's doubts as lines for the user (none when the pose is clear): a better fit refused
+// beyond maxRotationDegrees, a rival pose that fits alike.
+std::vector<std::string> poseDoubts(const MultiStartReport& report, double maxRotationDegrees);
+
+// A surface's principal axes (area-weighted, columns by decreasing variance), each pointing
+// towards its longer tail (the sign of the third moment along it), with that skewness. On the
+// shared CT livers the thinnest axis is the most skewed (0.29-0.38: the organ is a wedge), the
+// longest one next (0.04-0.29, right lobe to left), whatever the CT's frame.
+struct SignedAxes {
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d skewness = Eigen::Vector3d::Zero();  // standardised third moments, >= 0
+};
+SignedAxes signedAxes(const TriMesh& surface);
+
+// How well rotation R carries the source's signed axes onto the target's: sum over the axes of
+// cos(angle) weighted by the smaller skewness of the pair (an axis whose sign the shape does not
+// fix weighs nothing).
+double axesAgreement(const SignedAxes& source, const SignedAxes& target, const Eigen::Matrix3d& R);
 
 // Angle of a rotation matrix, degrees in [0, 180].
 double rotationAngleDegrees(const Eigen::Matrix3d& R);
