@@ -99,6 +99,7 @@ TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
                       (livers / "LiTS-3.eseg").string() + "' --iterations 5 --out transfer");
   ASSERT_EQ(transfer.code, 0) << transfer.err;
   EXPECT_NE(transfer.out.find("distance to the expert curve: planes "), std::string::npos);
+  EXPECT_NE(transfer.out.find("distance to the expert's whole band ("), std::string::npos);
   const auto metres = csvNumbers(dir / "transfer/ligament_curve.csv");
   const auto fileUnits = csvNumbers(dir / "transfer/ligament_curve_file_units.csv");
   ASSERT_EQ(metres.size(), fileUnits.size());
@@ -116,6 +117,32 @@ TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
     }
     EXPECT_NEAR(rigid[i][5], 1e3 * rigid[i][4], 1e-9);
   }
+  fs::remove_all(dir);
+}
+
+// LiTS-9 onto an atlas of three livers: two poses 54 deg apart fit it alike (RMS 9.3 mm each),
+// one puts the transferred curve 25 mm from the expert's, the other 93 mm. The surfaces cannot
+// tell them apart; the run must say so and keep the pose the anatomy's axes choose.
+TEST(AtlasCli, TransferSaysWhenTwoPosesFitAlikeAndKeepsTheAnatomicalOne) {
+  const fs::path livers = fs::path(BCASSIM_SOURCE_DIR) / "../shared/data/livers";
+  if (!fs::exists(livers / "LiTS-9.eseg")) GTEST_SKIP() << "no annotated livers in " << livers;
+  const fs::path dir = fs::temp_directory_path() / "bcassim_atlas_cli_pose";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const CliRun build = runCli(dir, "atlas build '" + livers.string() +
+                                       "' --max-livers 3 --no-frechet --iterations 5 --out atlas");
+  ASSERT_EQ(build.code, 0) << build.err;
+  const CliRun transfer =
+      runCli(dir, "atlas transfer atlas '" + (livers / "LiTS-9.obj").string() + "' --eseg '" +
+                      (livers / "LiTS-9.eseg").string() + "' --iterations 5 --out transfer");
+  ASSERT_EQ(transfer.code, 0) << transfer.err;
+  EXPECT_NE(transfer.out.find("ambiguous pose: a rival rigid fit "), std::string::npos)
+      << transfer.out;
+  const auto at = transfer.out.find("distance to the expert curve: planes ");
+  ASSERT_NE(at, std::string::npos) << transfer.out;
+  const std::string rest = transfer.out.substr(at);
+  const double mean = std::stod(rest.substr(rest.find(" mean ") + 6));
+  EXPECT_LT(mean, 40.0) << rest;  // mm; the rival pose: 93 mm
   fs::remove_all(dir);
 }
 

@@ -65,7 +65,12 @@ std::vector<AtlasSubject> subjects(double d) {
   const double xs[3] = {0.0, -d, d};
   std::vector<AtlasSubject> out;
   for (int i = 0; i < 3; ++i) {
-    AtlasSubject s{"s" + std::to_string(i), base, curveAt(xs[i])};
+    AtlasSubject s;
+    s.name = "s";
+    s.name +=
+        std::to_string(i);  // (gcc 12 warns wrongly about "s" + std::to_string(i): -Wrestrict)
+    s.surface = base;
+    s.curve = curveAt(xs[i]);
     s.surface.V = moves[i].apply(base.V);
     s.curve = moves[i].apply(s.curve);
     out.push_back(s);

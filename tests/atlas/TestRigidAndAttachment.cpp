@@ -80,6 +80,62 @@ TEST(RigidAlignment, MultiStartIcpUndoesAHalfTurn) {
   EXPECT_FALSE(report.rejected);
 }
 
+// An ellipsoid made egg-shaped along x (its thick end at -x), (0.08, 0.05, 0.03) m.
+TriMesh egg(int level) {
+  TriMesh m = test::makeIcosphere(1.0, level);
+  m.V = m.V * Eigen::Vector3d(0.08, 0.05, 0.03).asDiagonal();
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
+    const double x = m.V(i, 0);
+    m.V(i, 0) = x + 3.0 * x * x;
+  }
+  return m;
+}
+
+TEST(RigidAlignment, SignedAxesTurnWithTheShapeAndTellATurnedPoseApart) {
+  const TriMesh e = egg(3);
+  const SignedAxes a = signedAxes(e);
+  EXPECT_GT(std::abs(a.axes(0, 0)), 0.999);  // the long axis
+  EXPECT_GT(a.skewness(0), 0.05);
+  TriMesh turned = e;
+  const RigidTransform t = knownMotion();
+  turned.V = t.apply(e.V);
+  const SignedAxes b = signedAxes(turned);
+  EXPECT_LT((b.axes.col(0) - t.rotation * a.axes.col(0)).norm(), 1e-9);
+  EXPECT_NEAR(b.skewness(0), a.skewness(0), 1e-9);
+  const double right = axesAgreement(a, b, t.rotation);
+  EXPECT_NEAR(right, a.skewness.sum(), 1e-9);
+  // The half turn about z that the ellipsoid could not tell from the motion: the egg can.
+  const Eigen::Matrix3d halfTurn =
+      t.rotation * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_LT(axesAgreement(a, b, halfTurn), right - a.skewness(0));
+}
+
+TEST(RigidAlignment, MultiStartSaysWhenTwoPosesFitAlike) {
+  // A plain ellipsoid's half turns are symmetries: four poses fit it equally (the source a little
+  // larger, so that no fit is exact).
+  TriMesh target = test::makeIcosphere(1.0, 3);
+  target.V = target.V * Eigen::Vector3d(0.08, 0.05, 0.03).asDiagonal();
+  TriMesh source = test::makeIcosphere(1.0, 2);
+  source.V = source.V * Eigen::Vector3d(0.082, 0.051, 0.031).asDiagonal();
+  MultiStartReport report;
+  alignRigidlyMultiStart(source, target, {}, 8, nullptr, 180.0, &report);
+  EXPECT_TRUE(report.ambiguous);
+  EXPECT_NEAR(report.rivalApartDegrees, 180.0, 1.0);
+  EXPECT_LE(report.rivalRms, 1.03 * report.rms);
+  const auto doubts = poseDoubts(report, 180.0);
+  ASSERT_EQ(doubts.size(), 1u);
+  EXPECT_EQ(doubts[0].rfind("two poses 180 deg apart fit alike (RMS ", 0), 0u) << doubts[0];
+  // An egg keeps one of them, the half turn about its long axis; every pose kept has its thick
+  // end where the target's is.
+  TriMesh bigger = egg(2);
+  bigger.V *= 1.02;
+  const RigidTransform kept =
+      alignRigidlyMultiStart(bigger, egg(3), {}, 8, nullptr, 180.0, &report);
+  EXPECT_TRUE(report.ambiguous);
+  EXPECT_NEAR(report.rivalApartDegrees, 180.0, 1.0);
+  EXPECT_GT(kept.rotation(0, 0), 0.999);
+}
+
 TEST(RigidAlignment, RotationAngleOfAxisAngles) {
   for (double degrees : {0.0, 30.0, 90.0, 165.6, 180.0})
     EXPECT_NEAR(rotationAngleDegrees(

@@ -14,7 +14,24 @@ namespace bcassim {
 
 namespace fs = std::filesystem;
 
-LiverFolder readAnnotatedLivers(const std::string& dir, int label, double scale) {
+namespace {
+// The edges carrying `label`, as vertex pairs.
+Eigen::MatrixX2i edgesLabelled(const LabelledEdges& e, int label) {
+  Eigen::Index count = 0;
+  for (int l : e.labels) count += l == label ? 1 : 0;
+  Eigen::MatrixX2i out(count, 2);
+  Eigen::Index row = 0;
+  for (size_t i = 0; i < e.labels.size(); ++i) {
+    if (e.labels[i] != label) continue;
+    out(row, 0) = e.edges[i][0];
+    out(row, 1) = e.edges[i][1];
+    ++row;
+  }
+  return out;
+}
+}  // namespace
+
+LiverFolder readAnnotatedLivers(const std::string& dir, int label, double scale, int ridgeLabel) {
   if (!fs::is_directory(dir)) {
     throw InputError(fmt::format("{}: expected a folder of NAME.obj + NAME.eseg livers", dir));
   }
@@ -40,7 +57,8 @@ LiverFolder readAnnotatedLivers(const std::string& dir, int label, double scale)
         out.skipped.push_back(name + ": the labelled curve has fewer than 2 points");
         continue;
       }
-      out.subjects.push_back({name, TriMesh{m.V * scale, m.F}, c.points * scale});
+      out.subjects.push_back({name, TriMesh{m.V * scale, m.F}, c.points * scale,
+                              edgesLabelled(e, ridgeLabel), edgesLabelled(e, label)});
     } catch (const InputError& err) {
       out.skipped.push_back(name + ": " + err.what());
     }

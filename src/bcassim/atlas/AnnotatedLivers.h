@@ -14,8 +14,11 @@ struct LiverFolder {
 };
 
 // Every NAME.obj of dir that has a NAME.eseg beside it, sorted by name, with the curve of edges
-// labelled `label` (2: falciform). scale: factor to metres (1e-3 for the shared livers).
+// labelled `label` (2: falciform), that label's edges (band) and the edges labelled ridgeLabel
+// (3: the liver's anterior-inferior border; none is fine). scale: factor to metres (1e-3 for the
+// shared livers).
 // Unusable livers are skipped with their reason. Throws InputError when dir is not a folder.
-LiverFolder readAnnotatedLivers(const std::string& dir, int label = 2, double scale = 1e-3);
+LiverFolder readAnnotatedLivers(const std::string& dir, int label = 2, double scale = 1e-3,
+                                int ridgeLabel = 3);
 
 }  // namespace bcassim

@@ -61,24 +61,29 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
       MultiStartReport rep;
       const RigidTransform t = alignRigidlyMultiStart(s, templ, {}, 8, &res.alignmentRms[i],
                                                       o.atlas.maxRotationDegrees, &rep);
-      if (rep.rejected)
-        say(fmt::format(
-            "{}: the best rigid fit turns it {:.0f} deg (RMS {:.1f} mm), implausible for livers in "
-            "scanner axes; kept the best within {:.0f} deg: {:.0f} deg (RMS {:.1f} mm)",
-            subjects[i].name, rep.rejectedRotationDegrees, 1e3 * rep.rejectedRms,
-            o.atlas.maxRotationDegrees, rep.rotationDegrees, 1e3 * rep.rms));
+      for (const std::string& doubt : poseDoubts(rep, o.atlas.maxRotationDegrees))
+        say(fmt::format("{}: {}", subjects[i].name, doubt));
       s.V = t.apply(s.V);
       c = t.apply(c);
     }
     aligned[i] = s;
     alignedCurves[i] = c;
   }
+  // The template's and subject i's ridges, for the multi-object data term.
+  auto ridgePair = [&](int i) {
+    return CurvePair{subjects[o.templateSubject].ridge, subjects[i].ridge};
+  };
+  std::vector<bool> isHeld(n, false);
+  for (int h : held) isHeld[h] = true;
+  std::vector<Eigen::MatrixX3d> deformedHeld(n);  // template -> h as a held-out liver sees it
   if (o.frechetTemplate) {
     // Template shape: Fréchet mean of the surfaces (eq. 4.8), started from the template subject.
     const auto t0 = Clock::now();
     RegistrationOptions ro = o.atlas.registration;
     ro.lbfgs.maxIterations = o.templateIterations;
-    const AtlasResult fm = buildFrechetMeanAtlas(templ, aligned, ro);
+    std::vector<CurvePair> ridges;
+    for (int i = 0; i < n; ++i) ridges.push_back(ridgePair(i));
+    const AtlasResult fm = buildFrechetMeanAtlas(templ, aligned, ro, o.ridge ? &ridges : nullptr);
     templ = fm.mean;
     say(fmt::format(
         "Frechet-mean template of {} surfaces: {} iterations, objective {:.4g} -> {:.4g}, "
@@ -90,11 +95,19 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     const TriMesh& s = aligned[i];
     const Eigen::MatrixX3d& c = alignedCurves[i];
     if (i != o.templateSubject || o.frechetTemplate) {
-      const RegistrationResult r = registerSurface(templ, s, o.atlas.registration);
+      const CurvePair ridge = ridgePair(i);
+      const RegistrationResult r =
+          registerSurface(templ, s, o.atlas.registration, o.ridge ? &ridge : nullptr);
       deformed[i] = r.deformedVertices;
       res.dataRatio[i] = r.data / r.initialData;
+      deformedHeld[i] = deformed[i];
+      if (o.ridge && !o.ridgeOnHeldOut && isHeld[i] && ridge.source.rows() > 0 &&
+          ridge.target.rows() > 0) {
+        deformedHeld[i] = registerSurface(templ, s, o.atlas.registration).deformedVertices;
+      }
     } else {
       deformed[i] = templ.V;
+      deformedHeld[i] = templ.V;
     }
     curves[i] = c;
     carried[i] = SurfaceAttachment(TriMesh{deformed[i], templ.F}, c).positions(templ.V);
@@ -105,8 +118,14 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
   }
   // Distances on subject h in its own size (its curve and deformed template are scaled by
   // scale[h]).
-  auto compare = [&](int h, const Eigen::MatrixX3d& predicted, const CuttingPlaneFamily& planes) {
-    CurveDistance d = compareCurves(curves[h], predicted, planes);
+  auto compare = [&](int h, const Eigen::MatrixX3d& predicted, const CuttingPlaneFamily& planes,
+                     bool toBand = false) {
+    CurveDistance d;
+    if (!toBand) {
+      d = compareCurves(curves[h], predicted, planes);
+    } else if (subjects[h].band.rows() > 0) {
+      d = compareCurveToBand(aligned[h].V, subjects[h].band, predicted, planes);
+    }
     const double back = 1.0 / res.scale[h];
     d.planeMean *= back;
     d.planeMax *= back;
@@ -127,19 +146,25 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     LeaveOneOutFold f;
     f.subject = h;
     f.atlasPoints = static_cast<int>(atlas.mean.size());
-    f.distance = compare(h, predict(h, atlas, deformed[h]), atlas.planes);
+    const Eigen::MatrixX3d predicted = predict(h, atlas, deformedHeld[h]);
+    f.distance = compare(h, predicted, atlas.planes);
+    f.band = compare(h, predicted, atlas.planes, true);
     f.rigidOnly = compare(h, predict(h, atlas, templ.V), atlas.planes);
     LigamentAtlasOptions om = o.atlas;
     om.centre = CurveCentre::Median;
     const CurveAtlas medianAtlas = ligamentCurveAtlas(templ, others, om);
-    f.median = compare(h, predict(h, medianAtlas, deformed[h]), medianAtlas.planes);
+    f.median = compare(h, predict(h, medianAtlas, deformedHeld[h]), medianAtlas.planes);
     om.centre = CurveCentre::Mean;
     const CurveAtlas meanAtlas = ligamentCurveAtlas(templ, others, om);
-    f.plainMean = compare(h, predict(h, meanAtlas, deformed[h]), meanAtlas.planes);
-    say(fmt::format(
-        "held out {}: {} planes, mean {:.1f} mm, max {:.1f} mm (rigid only: mean {:.1f} mm)",
-        subjects[h].name, f.distance.planes, 1e3 * f.distance.planeMean, 1e3 * f.distance.planeMax,
-        1e3 * f.rigidOnly.planeMean));
+    f.plainMean = compare(h, predict(h, meanAtlas, deformedHeld[h]), meanAtlas.planes);
+    // No plane crossed by both curves: the per-plane distance is undefined, not 0 mm.
+    const auto perPlane = [](const CurveDistance& d) {
+      return d.planes == 0 ? std::string("no plane shared, distance undefined")
+                           : fmt::format("{} planes, mean {:.1f} mm, max {:.1f} mm", d.planes,
+                                         1e3 * d.planeMean, 1e3 * d.planeMax);
+    };
+    say(fmt::format("held out {}: {} (rigid only: {}; to the whole band: {})", subjects[h].name,
+                    perPlane(f.distance), perPlane(f.rigidOnly), perPlane(f.band)));
     res.folds.push_back(f);
   }
   return res;

@@ -26,6 +26,13 @@ struct LeaveOneOutOptions {
   // The carried mean curve is moved to its closest points on the held-out surface (projectOnto)
   // before it is compared with the expert curve, as transferAtlas(..., projectOntoPatient).
   bool projectOntoSubject = false;
+  // Multi-object data term (MultiObjectDistance.h): the ridge (.eseg label 3) of the template
+  // and of each subject is matched along with the surfaces (weight atlas.registration.curveWeight;
+  // the Fréchet-mean template too). The training curves are carried by those registrations; the
+  // held-out liver is registered once more from its surface alone, as a patient without labels,
+  // unless ridgeOnHeldOut (a patient whose ridge is labelled or detected).
+  bool ridge = false;
+  bool ridgeOnHeldOut = false;
 };
 
 struct LeaveOneOutFold {
@@ -35,6 +42,8 @@ struct LeaveOneOutFold {
   CurveDistance rigidOnly;  // same with the template only aligned rigidly (no LDDMM), for contrast
   CurveDistance median;     // LDDMM, per-plane geometric median instead of options' centre
   CurveDistance plainMean;  // LDDMM, per-plane mean of all crossings (the thesis' centre)
+  CurveDistance band;       // distance, against the expert's whole annotated band (planes = 0
+                            // when the subject has no band)
 };
 
 struct LeaveOneOutResult {

@@ -104,12 +104,8 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
       MultiStartReport rep;
       const RigidTransform t = alignRigidlyMultiStart(
           shapes[i], initial, {}, 8, &atlas.alignmentRms[i], o.maxRotationDegrees, &rep);
-      if (rep.rejected)
-        say(fmt::format(
-            "{}: the best rigid fit turns it {:.0f} deg (RMS {:.1f} mm), implausible for livers in "
-            "scanner axes; kept the best within {:.0f} deg: {:.0f} deg (RMS {:.1f} mm)",
-            subjects[i].name, rep.rejectedRotationDegrees, 1e3 * rep.rejectedRms,
-            o.maxRotationDegrees, rep.rotationDegrees, 1e3 * rep.rms));
+      for (const std::string& doubt : poseDoubts(rep, o.maxRotationDegrees))
+        say(fmt::format("{}: {}", subjects[i].name, doubt));
       shapes[i].V = t.apply(shapes[i].V);
       curves[i] = t.apply(curves[i]);
     }
@@ -124,8 +120,11 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
   const GeodesicShooting shooting(ro.sigmaV, ro.shooting);
   std::vector<Eigen::MatrixX3d> deformed(n);  // template vertices flowed onto subject i
   atlas.data.assign(n, 0.0);
+  std::vector<CurvePair> ridges;
+  for (int i = 0; i < n; ++i)
+    ridges.push_back({subjects[o.templateSubject].ridge, subjects[i].ridge});
   if (o.frechetMean) {
-    const AtlasResult fm = buildFrechetMeanAtlas(initial, shapes, ro);
+    const AtlasResult fm = buildFrechetMeanAtlas(initial, shapes, ro, o.ridge ? &ridges : nullptr);
     atlas.templ = fm.mean;
     for (int i = 0; i < n; ++i) {
       deformed[i] = shooting.flow(fm.controlPoints, fm.momenta[i], fm.mean.V);
@@ -138,7 +137,8 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
     atlas.templ = initial;
     for (int i = 0; i < n; ++i) {
       const auto ti = Clock::now();
-      const RegistrationResult r = registerSurface(initial, shapes[i], ro);
+      const RegistrationResult r =
+          registerSurface(initial, shapes[i], ro, o.ridge ? &ridges[i] : nullptr);
       deformed[i] = r.deformedVertices;
       atlas.data[i] = r.data;
       say(fmt::format("  {}: data {:.3g} -> {:.3g}, {} iterations, {:.1f} s", subjects[i].name,

@@ -19,6 +19,10 @@ struct AtlasSubject {
   std::string name;
   TriMesh surface;
   Eigen::MatrixX3d curve;
+  // Edges (vertex pairs of `surface`; empty when not labelled): the ridge (.eseg label 3), which
+  // the multi-object data term matches, and the curve's whole annotated band (every edge of its
+  // label; `curve` is the band's longest path), against which predictions are also compared.
+  Eigen::MatrixX2i ridge, band;
 };
 
 struct LigamentAtlasOptions {
@@ -43,6 +47,9 @@ struct LigamentAtlasOptions {
   double planeSpacing = 0.005;  // m
   // A plane yields a mean point when at least this fraction of the curves crosses it.
   double minCrossingFraction = 0.25;
+  // Multi-object data term (MultiObjectDistance.h): the template subject's ridge (.eseg label 3)
+  // and each subject's matched along with the surfaces (weight registration.curveWeight).
+  bool ridge = false;
   CurveCentre centre = CurveCentre::Mean;    // per-plane centre: mean (thesis), median or Trimmed
   double outlierMads = kDefaultOutlierMads;  // k of the Hampel identifier of CurveCentre::Trimmed
 };

@@ -88,6 +88,12 @@ void printRigidAlignment(const MultiStartReport& r, double maxRotation) {
         "--max-rotation {:g} deg for livers in scanner axes; the fit above is the best within it "
         "(--max-rotation 180 accepts any orientation)\n",
         r.rejectedRotationDegrees, 1e3 * r.rejectedRms, maxRotation);
+  if (r.ambiguous)
+    fmt::print(
+        "ambiguous pose: a rival rigid fit {:.1f} deg away fits alike (RMS {:.2f} mm); kept the "
+        "one whose signed principal axes agree better with the other shape's ({:.2f} against "
+        "{:.2f}); check the orientation\n",
+        r.rivalApartDegrees, 1e3 * r.rivalRms, r.axesAgreement, r.rivalAxesAgreement);
 }
 
 void plotAtlas(const fs::path& dir, const std::string& title) {
@@ -122,6 +128,18 @@ CurveCentre parseCentre(const std::string& c) {
   if (c == "median") return CurveCentre::Median;
   if (c == "trimmed") return CurveCentre::Trimmed;
   return CurveCentre::Mean;
+}
+
+// --ridge and --ridge-weight of build and loo: the multi-object data term.
+void addRidgeOptions(CLI::App& app, bool& ridge, double& weight) {
+  app.add_flag("--ridge", ridge,
+               "Multi-object data term: match the livers' ridges (.eseg label 3, the "
+               "anterior-inferior border) along with their surfaces");
+  app.add_option("--ridge-weight", weight,
+                 "Weight of the ridge term relative to the surface's, each measured against its "
+                 "own size (dimensionless; 1: as much as the surface)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
 }
 
 // --centre and --outlier-mads of build and loo.
@@ -258,6 +276,7 @@ class AtlasBuildCommand : public Command {
     app.add_flag("--median", median_, "Same as --centre median");
     addCentreOptions(app, centre_, outlierMads_);
     addScaleOption(app, scale_);
+    addRidgeOptions(app, ridge_, ridgeWeight_);
     reg_.add(app);
     addThreadsOption(app, threads_, kRegistrationThreads, false);
   }
@@ -288,6 +307,8 @@ class AtlasBuildCommand : public Command {
     if (planes_ == "parallel") o.planes = CuttingPlaneFamily::Kind::Parallel;
     o.centre = median_ ? CurveCentre::Median : parseCentre(centre_);
     o.outlierMads = outlierMads_;
+    o.ridge = ridge_;
+    o.registration.curveWeight = ridgeWeight_;
     const LigamentAtlas atlas = buildLigamentAtlas(livers.subjects, o, [](const std::string& s) {
       fmt::print("{}\n", s);
       std::fflush(stdout);
@@ -311,9 +332,9 @@ class AtlasBuildCommand : public Command {
   std::vector<std::string> exclude_;
   double scale_ = 1e-3, planeStep_ = 5.0, minCrossing_ = 0.25, planeSpacing_ = 0.005;
   std::string planes_ = "radial";
-  bool noFrechet_ = false, median_ = false;
+  bool noFrechet_ = false, median_ = false, ridge_ = false;
   std::string centre_ = "mean";
-  double outlierMads_ = kDefaultOutlierMads;
+  double outlierMads_ = kDefaultOutlierMads, ridgeWeight_ = 1.0;
   RegistrationFlags reg_;
   int threads_ = 0;
 };
@@ -388,6 +409,20 @@ class AtlasTransferCommand : public Command {
                                       1e3 * d.planeMean, 1e3 * d.planeMax);
       fmt::print("distance to the expert curve: {}; points mean {:.1f} mm max {:.1f} mm\n",
                  perPlane, 1e3 * d.pointMean, 1e3 * d.pointMax);
+      // The same against every labelled edge, not only the band's longest path.
+      Eigen::MatrixX2i band(std::count(e.labels.begin(), e.labels.end(), label_), 2);
+      Eigen::Index row = 0;
+      for (size_t k = 0; k < e.labels.size(); ++k)
+        if (e.labels[k] == label_) band.row(row++) << e.edges[k][0], e.edges[k][1];
+      const CurveDistance b = compareCurveToBand(
+          raw.V * scale_, band, tr.curve.mean,
+          transformed(atlas.curve.planes, tr.rigid.rotation, tr.rigid.translation));
+      fmt::print("distance to the expert's whole band ({} edges): {}; band points mean {:.1f} mm\n",
+                 band.rows(),
+                 b.planes == 0 ? std::string("planes 0: per-plane distance undefined")
+                               : fmt::format("planes {} mean {:.1f} mm max {:.1f} mm", b.planes,
+                                             1e3 * b.planeMean, 1e3 * b.planeMax),
+                 1e3 * b.pointMean);
     }
     fmt::print("wrote {} (x,y,z,sigma in m, patient frame) and .vtp files\n",
                (out / "ligament_curve.csv").string());
@@ -411,11 +446,13 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
   std::ofstream f(out / "loo.csv");
   f << "liver,planes,mean_mm,max_mm,point_mean_mm,point_max_mm,rigid_only_mean_mm,"
        "rigid_only_max_mm,median_mean_mm,median_max_mm,atlas_points,alignment_rms_mm,data_left,"
-       "plain_mean_mean_mm,plain_mean_max_mm,scale\n";
+       "plain_mean_mean_mm,plain_mean_max_mm,scale,band_planes,band_mean_mm,band_max_mm,"
+       "band_point_mean_mm\n";
   double sumMean = 0, sumMax = 0, worst = 0, sumRigid = 0, sumPoint = 0, sumMedian = 0,
          sumMedianMax = 0, sumPlain = 0, sumPlainMax = 0;
   std::vector<double> perLiver;
-  int counted = 0;
+  int counted = 0, bandCounted = 0;
+  double sumBand = 0, sumBandMax = 0, worstBand = 0;
   for (const LeaveOneOutFold& fold : r.folds) {
     const CurveDistance& d = fold.distance;
     // Empty fields where no plane crosses both curves: undefined, not 0 mm.
@@ -428,7 +465,17 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
       << 1e3 * fold.median.planeMean << ',' << 1e3 * fold.median.planeMax << ',' << fold.atlasPoints
       << ',' << 1e3 * r.alignmentRms[fold.subject] << ',' << r.dataRatio[fold.subject] << ','
       << 1e3 * fold.plainMean.planeMean << ',' << 1e3 * fold.plainMean.planeMax << ','
-      << r.scale[fold.subject] << '\n';
+      << r.scale[fold.subject] << ',' << fold.band.planes << ','
+      << (fold.band.planes == 0 ? std::string() : fmt::format("{}", 1e3 * fold.band.planeMean))
+      << ','
+      << (fold.band.planes == 0 ? std::string() : fmt::format("{}", 1e3 * fold.band.planeMax))
+      << ',' << 1e3 * fold.band.pointMean << '\n';
+    if (fold.band.planes > 0) {
+      ++bandCounted;
+      sumBand += fold.band.planeMean;
+      sumBandMax += fold.band.planeMax;
+      worstBand = std::max(worstBand, fold.band.planeMean);
+    }
     if (d.planes == 0) continue;
     ++counted;
     sumMean += d.planeMean;
@@ -465,6 +512,12 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
     fmt::print("median over livers {:.1f} mm; {} of {} livers within 10 mm\n", 1e3 * med,
                std::count_if(perLiver.begin(), perLiver.end(), [](double x) { return x <= 0.01; }),
                counted);
+  }
+  if (bandCounted > 0) {
+    fmt::print(
+        "against the whole annotated band (nearest band crossing per plane) over {} livers: mean "
+        "{:.1f} mm, mean of max {:.1f} mm, worst liver {:.1f} mm\n",
+        bandCounted, 1e3 * sumBand / bandCounted, 1e3 * sumBandMax / bandCounted, 1e3 * worstBand);
   }
   fmt::print("registrations {:.0f} s ({:.1f} s each), total {:.0f} s; wrote {}\n", regSeconds,
              regSeconds / static_cast<double>(subjects.size()), seconds,
@@ -504,6 +557,10 @@ class AtlasLooCommand : public Command {
     app.add_option("--template-iterations", templateIterations_,
                    "L-BFGS iterations of the Frechet-mean template (as atlas build)")
         ->capture_default_str();
+    addRidgeOptions(app, ridge_, ridgeWeight_);
+    app.add_flag("--ridge-on-held-out", ridgeOnHeldOut_,
+                 "With --ridge: register the held-out liver with its ridge too (a patient whose "
+                 "ridge is labelled or detected; without it, from its surface alone)");
     reg_.add(app);
     addThreadsOption(app, threads_, kRegistrationThreads, false);
   }
@@ -531,6 +588,10 @@ class AtlasLooCommand : public Command {
     o.frechetTemplate = frechetTemplate_;
     o.projectOntoSubject = project_;
     o.templateIterations = templateIterations_;
+    o.ridge = ridge_;
+    o.ridgeOnHeldOut = ridgeOnHeldOut_;
+    o.atlas.registration.curveWeight = ridgeWeight_;
+    if (ridgeOnHeldOut_ && !ridge_) throw InputError("--ridge-on-held-out: needs --ridge");
     if (!templ_.empty()) {
       o.templateSubject = -1;
       for (int i = 0; i < n; ++i)
@@ -560,6 +621,8 @@ class AtlasLooCommand : public Command {
   std::string centre_ = "mean";
   double outlierMads_ = kDefaultOutlierMads;
   bool scaleAlign_ = false, frechetTemplate_ = false, project_ = false;
+  bool ridge_ = false, ridgeOnHeldOut_ = false;
+  double ridgeWeight_ = 1.0;
   int templateIterations_ = 60;
   RegistrationFlags reg_;
   int threads_ = 0;
