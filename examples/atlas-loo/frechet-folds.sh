@@ -12,7 +12,8 @@
 # comma-separated list; the results page uses 2,4,0 (33 livers, 70 min).
 #
 # ATLAS_OPTIONS (default empty): more options of `atlas build`, e.g. "--ridge" (the multi-object
-# data term; the held-out liver is then still registered from its surface alone).
+# data term). TRANSFER_RIDGE=1: the transfer matches the held-out liver's ridge (its .eseg label 3,
+# never its falciform) with the atlas template's, as for a patient whose ridge is labelled.
 #
 # Writes OUT/folds.csv (liver, planes, mean_mm, max_mm, and the same against the expert's whole
 # annotated band) and prints the mean over the folds. A fold whose result is already in
@@ -37,11 +38,14 @@ for i in "${!names[@]}"; do
   name=${names[$i]}
   grep -q "^$name," "$csv" && { echo "$name: done already"; continue; }
   fold="$out/$name"
+  ridge_option=()
+  [[ -n "${TRANSFER_RIDGE:-}" ]] && ridge_option=(--ridge-from "$livers/$name.eseg")
   start=$SECONDS
   "${run[@]}" "$bcassim" atlas build "$livers" --exclude "$name" --sigma-w $sigma_w \
       --centre trimmed "${atlas_options[@]}" --out "$fold/atlas" >"$fold.build.log" 2>&1
   "${run[@]}" "$bcassim" atlas transfer "$fold/atlas" "$livers/$name.obj" --eseg "$livers/$name.eseg" \
-      --sigma-w $sigma_w --iterations 100 --project --out "$fold/transfer" >"$fold.transfer.log" 2>&1
+      --sigma-w $sigma_w --iterations 100 --project --out "$fold/transfer" \
+      "${ridge_option[@]}" >"$fold.transfer.log" 2>&1
   line=$(grep "distance to the expert curve" "$fold.transfer.log" || true)
   planes=$(sed -E 's/.*planes ([0-9]+) .*/\1/' <<<"${line:-planes 0 }")
   if [[ "$planes" == 0 ]]; then

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 
 #include "atlas/AtlasTestMeshes.h"
@@ -204,7 +205,28 @@ TEST(LigamentAtlas, FilesRoundTrip) {
   EXPECT_EQ(back.curve.plane, atlas.curve.plane);
   EXPECT_EQ(back.curve.planes.planes.size(), atlas.curve.planes.planes.size());
   EXPECT_EQ(back.carriedCurves.size(), 3u);
+  EXPECT_EQ(back.templRidge.rows(), 0);  // the subjects label no ridge: no file, none read
+  EXPECT_FALSE(std::filesystem::exists(dir / "template_ridge.csv"));
   EXPECT_THROW(readLigamentAtlas((dir / "nothing").string()), InputError);
+
+  // The template's ridge travels with the atlas; a bad vertex index is one line.
+  std::vector<AtlasSubject> ridged = subjects(0.01);
+  ridged[0].ridge.resize(2, 2);
+  ridged[0].ridge << 0, 1, 1, 2;
+  const LigamentAtlas withRidge = buildLigamentAtlas(ridged, quickOptions());
+  EXPECT_EQ(withRidge.templRidge, ridged[0].ridge);
+  writeLigamentAtlas(dir.string(), withRidge);
+  EXPECT_EQ(readLigamentAtlas(dir.string()).templRidge, ridged[0].ridge);
+  std::ofstream(dir / "template_ridge.csv") << "v0,v1\n0,1\n1,99999\n";
+  try {
+    readLigamentAtlas(dir.string());
+    FAIL() << "a vertex index out of range was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "template_ridge.csv").string() +
+                                         ":3: expected a vertex index of the template, 0.." +
+                                         std::to_string(withRidge.templ.V.rows() - 1) +
+                                         ", got 99999");
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -14,23 +14,6 @@ namespace bcassim {
 
 namespace fs = std::filesystem;
 
-namespace {
-// The edges carrying `label`, as vertex pairs.
-Eigen::MatrixX2i edgesLabelled(const LabelledEdges& e, int label) {
-  Eigen::Index count = 0;
-  for (int l : e.labels) count += l == label ? 1 : 0;
-  Eigen::MatrixX2i out(count, 2);
-  Eigen::Index row = 0;
-  for (size_t i = 0; i < e.labels.size(); ++i) {
-    if (e.labels[i] != label) continue;
-    out(row, 0) = e.edges[i][0];
-    out(row, 1) = e.edges[i][1];
-    ++row;
-  }
-  return out;
-}
-}  // namespace
-
 LiverFolder readAnnotatedLivers(const std::string& dir, int label, double scale, int ridgeLabel) {
   if (!fs::is_directory(dir)) {
     throw InputError(fmt::format("{}: expected a folder of NAME.obj + NAME.eseg livers", dir));

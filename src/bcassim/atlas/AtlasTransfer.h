@@ -20,9 +20,12 @@ struct AtlasTransfer {
 // moved template. projectOntoPatient: the carried curve and band are moved to their closest
 // points on the patient's surface (projectOnto). maxRotationDegrees: a rigid fit turning the
 // template further is refused (RigidAlignment.h; kScannerFrameMaxRotationDegrees for CT livers,
-// as the atlas commands do). Throws InputError on a patient without faces.
+// as the atlas commands do). patientRidge (optional): the patient's ridge as edges of `patient`,
+// matched with the atlas' template ridge (multi-object data term, MultiObjectDistance.h).
+// Throws InputError on a patient without faces, or a patient ridge the atlas has no ridge for.
 AtlasTransfer transferAtlas(const LigamentAtlas& atlas, const TriMesh& patient,
                             const RegistrationOptions& options = {}, bool rigidAlign = true,
-                            bool projectOntoPatient = false, double maxRotationDegrees = 180.0);
+                            bool projectOntoPatient = false, double maxRotationDegrees = 180.0,
+                            const Eigen::MatrixX2i* patientRidge = nullptr);
 
 }  // namespace bcassim

@@ -83,6 +83,7 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
     }
   }
   LigamentAtlas atlas;
+  atlas.templRidge = subjects[o.templateSubject].ridge;
   // 1. Rigid pre-alignment: the template subject centred on its bounding box, the others
   //    aligned onto it (surface and curve move together).
   const auto t0 = Clock::now();

@@ -56,6 +56,9 @@ struct LigamentAtlasOptions {
 
 struct LigamentAtlas {
   TriMesh templ;  // mean shape (m), in the frame of the centred template subject
+  // The template subject's ridge (.eseg label 3) as edges of templ (empty when not labelled), so
+  // that a transfer can match a patient's ridge too (template_ridge.csv in the atlas folder).
+  Eigen::MatrixX2i templRidge;
   CurveAtlas curve;
   std::vector<std::string> subjects;
   std::vector<Eigen::MatrixX3d> carriedCurves;  // each subject's curve on the template (m)

@@ -90,6 +90,12 @@ void writeLigamentAtlas(const std::string& dirName, const LigamentAtlas& a) {
       f << '\n';
     }
   }
+  if (a.templRidge.rows() > 0) {
+    std::ofstream f = openOut(dir / "template_ridge.csv");
+    f << "v0,v1\n";
+    for (Eigen::Index e = 0; e < a.templRidge.rows(); ++e)
+      f << a.templRidge(e, 0) << ',' << a.templRidge(e, 1) << '\n';
+  }
   writePointSetsCsv((dir / "carried_curves.csv").string(), "subject", a.carriedCurves);
   {
     std::ofstream f = openOut(dir / "subjects.csv");
@@ -110,6 +116,26 @@ LigamentAtlas readLigamentAtlas(const std::string& dirName) {
   const fs::path tp = dir / "template.obj";
   if (!fs::exists(tp)) throw InputError(fmt::format("{}: missing (atlas template)", tp.string()));
   a.templ = readSurface(tp.string());
+  const fs::path rp = dir / "template_ridge.csv";
+  if (fs::exists(rp)) {
+    const std::string rf = rp.string();
+    const CsvTable rt = readCsvTable(rf);
+    const int c0 = col(rt, rf, "v0"), c1 = col(rt, rf, "v1");
+    a.templRidge.resize(rt.rows.rows(), 2);
+    const auto nv = static_cast<double>(a.templ.V.rows());
+    for (Eigen::Index i = 0; i < rt.rows.rows(); ++i) {
+      for (const int c : {c0, c1}) {
+        const double v = rt.rows(i, c);
+        if (!(v >= 0 && v < nv) || v != std::floor(v)) {
+          throw InputError(
+              fmt::format("{}:{}: expected a vertex index of the template, 0..{}, got {}", rf,
+                          rt.lines[i], a.templ.V.rows() - 1, v));
+        }
+      }
+      a.templRidge(i, 0) = static_cast<int>(rt.rows(i, c0));
+      a.templRidge(i, 1) = static_cast<int>(rt.rows(i, c1));
+    }
+  }
   const std::string pf = (dir / "planes.csv").string();
   const CsvTable pt = readCsvTable(pf);
   if (pt.rows.rows() == 0) throw InputError(fmt::format("{}: expected at least one plane", pf));

@@ -368,6 +368,15 @@ class AtlasTransferCommand : public Command {
     app.add_flag("--project", project_,
                  "Move the transferred curve and band to their closest points on the patient's "
                  "surface (the registration leaves the deformed template a few mm off it)");
+    app.add_option("--ridge-from", ridgeFrom_,
+                   "A .eseg of the patient whose label 3 marks its ridge (the anterior-inferior "
+                   "border, labelled or detected): matched with the atlas template's ridge "
+                   "(multi-object data term); its falciform labels are not used");
+    app.add_option("--ridge-weight", ridgeWeight_,
+                   "Weight of the ridge term relative to the surface's, each measured against "
+                   "its own size (dimensionless; 1: as much as the surface)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     reg_.add(app);
     addThreadsOption(app, threads_, kKernelThreads, false);
   }
@@ -377,8 +386,16 @@ class AtlasTransferCommand : public Command {
     const auto t0 = Clock::now();
     const LigamentAtlas atlas = readLigamentAtlas(atlas_);
     const TriMesh patient = readScaled(patient_, scale_);
-    const AtlasTransfer tr =
-        transferAtlas(atlas, patient, reg_.options(), true, project_, reg_.maxRotation);
+    std::optional<Eigen::MatrixX2i> ridge;
+    if (!ridgeFrom_.empty()) {
+      ridge = edgesLabelled(readEseg(ridgeFrom_, patient), 3);
+      if (ridge->rows() == 0)
+        throw InputError(fmt::format("{}: no edge carries label 3 (the ridge)", ridgeFrom_));
+    }
+    RegistrationOptions ro = reg_.options();
+    ro.curveWeight = ridgeWeight_;
+    const AtlasTransfer tr = transferAtlas(atlas, patient, ro, true, project_, reg_.maxRotation,
+                                           ridge ? &*ridge : nullptr);
     printRigidAlignment(tr.rigidReport, reg_.maxRotation);
     const fs::path out(out_);
     fs::create_directories(out);
@@ -410,10 +427,7 @@ class AtlasTransferCommand : public Command {
       fmt::print("distance to the expert curve: {}; points mean {:.1f} mm max {:.1f} mm\n",
                  perPlane, 1e3 * d.pointMean, 1e3 * d.pointMax);
       // The same against every labelled edge, not only the band's longest path.
-      Eigen::MatrixX2i band(std::count(e.labels.begin(), e.labels.end(), label_), 2);
-      Eigen::Index row = 0;
-      for (size_t k = 0; k < e.labels.size(); ++k)
-        if (e.labels[k] == label_) band.row(row++) << e.edges[k][0], e.edges[k][1];
+      const Eigen::MatrixX2i band = edgesLabelled(e, label_);
       const CurveDistance b = compareCurveToBand(
           raw.V * scale_, band, tr.curve.mean,
           transformed(atlas.curve.planes, tr.rigid.rotation, tr.rigid.translation));
@@ -431,9 +445,9 @@ class AtlasTransferCommand : public Command {
   }
 
  private:
-  std::string atlas_, patient_, out_ = "out/atlas-transfer", eseg_;
+  std::string atlas_, patient_, out_ = "out/atlas-transfer", eseg_, ridgeFrom_;
   int label_ = 2;
-  double scale_ = 1e-3;
+  double scale_ = 1e-3, ridgeWeight_ = 1.0;
   bool project_ = false;
   RegistrationFlags reg_;
   int threads_ = 0;

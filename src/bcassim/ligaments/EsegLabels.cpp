@@ -58,4 +58,18 @@ LabelledEdges readEseg(const std::string& path, const TriMesh& surface) {
   return out;
 }
 
+Eigen::MatrixX2i edgesLabelled(const LabelledEdges& e, int label) {
+  Eigen::Index count = 0;
+  for (int l : e.labels) count += l == label ? 1 : 0;
+  Eigen::MatrixX2i out(count, 2);
+  Eigen::Index row = 0;
+  for (size_t i = 0; i < e.labels.size() && i < e.edges.size(); ++i) {
+    if (e.labels[i] != label) continue;
+    out(row, 0) = e.edges[i][0];
+    out(row, 1) = e.edges[i][1];
+    ++row;
+  }
+  return out.topRows(row);
+}
+
 }  // namespace bcassim

@@ -1,6 +1,7 @@
 // Per-edge labels of a triangle surface stored as .eseg files (the annotated livers: 1 background,
 // 2 falciform ligament attachment, 3 liver ridge), and the edge numbering these files use.
 #pragma once
+#include <Eigen/Core>
 #include <array>
 #include <string>
 #include <vector>
@@ -24,5 +25,8 @@ struct LabelledEdges {
 // "LiTS-3.eseg:5654: expected 5655 edge labels (one per surface edge), the file ends after 5653"
 // or "LiTS-3.eseg:12: expected an integer edge label, got 'x'".
 LabelledEdges readEseg(const std::string& path, const TriMesh& surface);
+
+// The edges carrying `label`, as vertex pairs (#edges by 2, .eseg order; none: 0 rows).
+Eigen::MatrixX2i edgesLabelled(const LabelledEdges& edges, int label);
 
 }  // namespace bcassim

@@ -41,6 +41,7 @@ void transferOnto(const LigamentAtlas& atlas, const TriMesh& patient, int iterat
   result.curve = transfer.curve.mean;
   result.sigma = transfer.curve.sigma;
   result.rotationDegrees = transfer.rigidReport.rotationDegrees;
+  result.poseDoubts = poseDoubts(transfer.rigidReport, maxRotationDegrees);
 }
 
 bool cachedFor(const fs::path& dir, const std::string& excluded) {

@@ -28,6 +28,7 @@ struct AtlasCurve {
   bool fromCache = false;
   double buildSeconds = 0, transferSeconds = 0;
   double rotationDegrees = 0;  // of the rigid alignment of the atlas' template onto the patient
+  std::vector<std::string> poseDoubts;  // that alignment's doubts (RigidAlignment.h's poseDoubts)
 };
 
 // patient: the patient's surface in metres (its CT frame). The options are those of the CLI's
