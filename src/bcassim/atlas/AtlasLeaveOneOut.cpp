@@ -81,8 +81,8 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     const auto t0 = Clock::now();
     RegistrationOptions ro = o.atlas.registration;
     ro.lbfgs.maxIterations = o.templateIterations;
-    std::vector<CurvePair> ridges;
-    for (int i = 0; i < n; ++i) ridges.push_back(ridgePair(i));
+    std::vector<CurvePair> ridges(n);
+    for (int i = 0; i < n; ++i) ridges[i] = ridgePair(i);
     const AtlasResult fm = buildFrechetMeanAtlas(templ, aligned, ro, o.ridge ? &ridges : nullptr);
     templ = fm.mean;
     say(fmt::format(

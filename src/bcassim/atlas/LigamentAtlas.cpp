@@ -121,9 +121,8 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
   const GeodesicShooting shooting(ro.sigmaV, ro.shooting);
   std::vector<Eigen::MatrixX3d> deformed(n);  // template vertices flowed onto subject i
   atlas.data.assign(n, 0.0);
-  std::vector<CurvePair> ridges;
-  for (int i = 0; i < n; ++i)
-    ridges.push_back({subjects[o.templateSubject].ridge, subjects[i].ridge});
+  std::vector<CurvePair> ridges(n);
+  for (int i = 0; i < n; ++i) ridges[i] = {subjects[o.templateSubject].ridge, subjects[i].ridge};
   if (o.frechetMean) {
     const AtlasResult fm = buildFrechetMeanAtlas(initial, shapes, ro, o.ridge ? &ridges : nullptr);
     atlas.templ = fm.mean;

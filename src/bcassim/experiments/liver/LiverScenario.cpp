@@ -226,7 +226,7 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
       result.atlas.source = fmt::format("{} without {}", ao.liverDir, ao.exclude);
     }
     for (const std::string& doubt : transferred.poseDoubts)
-      if (log) log("atlas transfer onto " + name + ": " + doubt);
+      if (log) log(fmt::format("atlas transfer onto {}: {}", name, doubt));
     springCurve = transferred.curve;
     result.atlas.used = true;
     result.atlas.rotationDegrees = transferred.rotationDegrees;
