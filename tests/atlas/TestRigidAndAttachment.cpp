@@ -125,7 +125,7 @@ TEST(RigidAlignment, MultiStartSaysWhenTwoPosesFitAlike) {
   const auto doubts = poseDoubts(report, 180.0);
   ASSERT_EQ(doubts.size(), 1u);
   EXPECT_EQ(doubts[0].rfind("two poses 180 deg apart fit alike (RMS ", 0), 0u) << doubts[0];
-  // An egg keeps one of them, the half turn about its long axis; every pose kept has its thick
+  // An egg keeps one symmetry, the half turn about its long axis; the pose kept has its thick
   // end where the target's is.
   TriMesh bigger = egg(2);
   bigger.V *= 1.02;

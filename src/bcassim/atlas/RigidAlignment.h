@@ -38,10 +38,11 @@ struct MultiStartReport {
   double rotationDegrees = 0.0;  // angle of the returned rotation
   bool rejected = false;         // a start turned more than allowed fitted >= 1 % better, refined
   double rejectedRms = 0.0, rejectedRotationDegrees = 0.0;
-  // Two allowed poses at least kRivalPoseDegrees apart fit within 3 % of each other (the surface
-  // alone cannot tell them apart: LiTS-9, 55 and 59 deg from the scanner axes, 9.3 mm RMS each,
-  // its curve 25 or 93 mm off). The returned one agrees better with the target's signed
-  // principal axes (SignedAxes below); the rival's figures are kept for the user.
+  // Another allowed pose at least kRivalPoseDegrees away fits within 3 % (the surface alone
+  // cannot tell them apart: LiTS-9 onto three livers, two poses 54 deg apart, 9.3 mm RMS each,
+  // its curve 27 or 93 mm off). The returned pose stays the multi-start's choice; the closest
+  // rival's fit and both agreements with the target's signed principal axes (SignedAxes below)
+  // are for the user, who knows the orientation.
   bool ambiguous = false;
   double rivalRms = 0.0, rivalApartDegrees = 0.0;
   double axesAgreement = 0.0, rivalAxesAgreement = 0.0;  // axesAgreement() of each

@@ -90,9 +90,9 @@ void printRigidAlignment(const MultiStartReport& r, double maxRotation) {
         r.rejectedRotationDegrees, 1e3 * r.rejectedRms, maxRotation);
   if (r.ambiguous)
     fmt::print(
-        "ambiguous pose: a rival rigid fit {:.1f} deg away fits alike (RMS {:.2f} mm); kept the "
-        "one whose signed principal axes agree better with the other shape's ({:.2f} against "
-        "{:.2f}); check the orientation\n",
+        "ambiguous pose: a rival rigid fit {:.1f} deg away fits alike (RMS {:.2f} mm); signed "
+        "principal axes agreement {:.2f} for the fit above, {:.2f} for the rival: check the "
+        "orientation\n",
         r.rivalApartDegrees, 1e3 * r.rivalRms, r.axesAgreement, r.rivalAxesAgreement);
 }
 
