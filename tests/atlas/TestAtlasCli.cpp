@@ -85,18 +85,26 @@ std::vector<std::vector<double>> csvNumbers(const fs::path& path) {
   return rows;
 }
 
-TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
-  const fs::path livers = fs::path(BCASSIM_SOURCE_DIR) / "../shared/data/livers";
-  if (!fs::exists(livers / "LiTS-3.eseg")) GTEST_SKIP() << "no annotated livers in " << livers;
-  const fs::path dir = fs::temp_directory_path() / "bcassim_atlas_cli_transfer";
+const fs::path kLivers = fs::path(BCASSIM_SOURCE_DIR) / "../shared/data/livers";
+
+// In a fresh dir: an atlas of the first three shared livers (dir/atlas, with its template's
+// ridge), then `atlas transfer` of it onto `liver` compared with its .eseg (dir/transfer).
+CliRun transferOfASmallAtlas(const fs::path& dir, const std::string& liver,
+                             const std::string& more = "") {
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const CliRun build = runCli(dir, "atlas build '" + livers.string() +
+  const CliRun build = runCli(dir, "atlas build '" + kLivers.string() +
                                        "' --max-livers 3 --no-frechet --iterations 5 --out atlas");
-  ASSERT_EQ(build.code, 0) << build.err;
-  const CliRun transfer =
-      runCli(dir, "atlas transfer atlas '" + (livers / "LiTS-3.obj").string() + "' --eseg '" +
-                      (livers / "LiTS-3.eseg").string() + "' --iterations 5 --out transfer");
+  EXPECT_EQ(build.code, 0) << build.err;
+  return runCli(dir, "atlas transfer atlas '" + (kLivers / (liver + ".obj")).string() +
+                         "' --eseg '" + (kLivers / (liver + ".eseg")).string() +
+                         "' --iterations 5 --out transfer " + more);
+}
+
+TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
+  if (!fs::exists(kLivers / "LiTS-3.eseg")) GTEST_SKIP() << "no annotated livers in " << kLivers;
+  const fs::path dir = fs::temp_directory_path() / "bcassim_atlas_cli_transfer";
+  const CliRun transfer = transferOfASmallAtlas(dir, "LiTS-3");
   ASSERT_EQ(transfer.code, 0) << transfer.err;
   EXPECT_NE(transfer.out.find("distance to the expert curve: planes "), std::string::npos);
   EXPECT_NE(transfer.out.find("distance to the expert's whole band ("), std::string::npos);
@@ -117,6 +125,12 @@ TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
     }
     EXPECT_NEAR(rigid[i][5], 1e3 * rigid[i][4], 1e-9);
   }
+  // The patient's ridge matched with the atlas template's (multi-object data term).
+  const CliRun ridged = runCli(dir, "atlas transfer atlas '" + (kLivers / "LiTS-3.obj").string() +
+                                        "' --ridge-from '" + (kLivers / "LiTS-3.eseg").string() +
+                                        "' --iterations 5 --out ridged");
+  ASSERT_EQ(ridged.code, 0) << ridged.err;
+  EXPECT_TRUE(fs::exists(dir / "ridged/ligament_curve.csv"));
   fs::remove_all(dir);
 }
 
@@ -124,17 +138,9 @@ TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
 // one puts the transferred curve 27 mm from the expert's, the other 93 mm. The surfaces cannot
 // tell them apart; the run must say so (and keep the multi-start's pose, the right one here).
 TEST(AtlasCli, TransferSaysWhenTwoPosesFitAlike) {
-  const fs::path livers = fs::path(BCASSIM_SOURCE_DIR) / "../shared/data/livers";
-  if (!fs::exists(livers / "LiTS-9.eseg")) GTEST_SKIP() << "no annotated livers in " << livers;
+  if (!fs::exists(kLivers / "LiTS-9.eseg")) GTEST_SKIP() << "no annotated livers in " << kLivers;
   const fs::path dir = fs::temp_directory_path() / "bcassim_atlas_cli_pose";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const CliRun build = runCli(dir, "atlas build '" + livers.string() +
-                                       "' --max-livers 3 --no-frechet --iterations 5 --out atlas");
-  ASSERT_EQ(build.code, 0) << build.err;
-  const CliRun transfer =
-      runCli(dir, "atlas transfer atlas '" + (livers / "LiTS-9.obj").string() + "' --eseg '" +
-                      (livers / "LiTS-9.eseg").string() + "' --iterations 5 --out transfer");
+  const CliRun transfer = transferOfASmallAtlas(dir, "LiTS-9");
   ASSERT_EQ(transfer.code, 0) << transfer.err;
   EXPECT_NE(transfer.out.find("ambiguous pose: a rival rigid fit "), std::string::npos)
       << transfer.out;

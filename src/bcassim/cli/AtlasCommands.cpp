@@ -130,16 +130,21 @@ CurveCentre parseCentre(const std::string& c) {
   return CurveCentre::Mean;
 }
 
-// --ridge and --ridge-weight of build and loo: the multi-object data term.
-void addRidgeOptions(CLI::App& app, bool& ridge, double& weight) {
-  app.add_flag("--ridge", ridge,
-               "Multi-object data term: match the livers' ridges (.eseg label 3, the "
-               "anterior-inferior border) along with their surfaces");
+// --ridge-weight of build, loo and transfer: the multi-object data term's weight.
+void addRidgeWeightOption(CLI::App& app, double& weight) {
   app.add_option("--ridge-weight", weight,
                  "Weight of the ridge term relative to the surface's, each measured against its "
                  "own size (dimensionless; 1: as much as the surface)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+}
+
+// --ridge and --ridge-weight of build and loo.
+void addRidgeOptions(CLI::App& app, bool& ridge, double& weight) {
+  app.add_flag("--ridge", ridge,
+               "Multi-object data term: match the livers' ridges (.eseg label 3, the "
+               "anterior-inferior border) along with their surfaces");
+  addRidgeWeightOption(app, weight);
 }
 
 // --centre and --outlier-mads of build and loo.
@@ -372,11 +377,7 @@ class AtlasTransferCommand : public Command {
                    "A .eseg of the patient whose label 3 marks its ridge (the anterior-inferior "
                    "border, labelled or detected): matched with the atlas template's ridge "
                    "(multi-object data term); its falciform labels are not used");
-    app.add_option("--ridge-weight", ridgeWeight_,
-                   "Weight of the ridge term relative to the surface's, each measured against "
-                   "its own size (dimensionless; 1: as much as the surface)")
-        ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+    addRidgeWeightOption(app, ridgeWeight_);
     reg_.add(app);
     addThreadsOption(app, threads_, kKernelThreads, false);
   }
