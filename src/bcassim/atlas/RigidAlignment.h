@@ -38,9 +38,9 @@ struct MultiStartReport {
   double rotationDegrees = 0.0;  // angle of the returned rotation
   bool rejected = false;         // a start turned more than allowed fitted >= 1 % better, refined
   double rejectedRms = 0.0, rejectedRotationDegrees = 0.0;
-  // Another allowed pose at least kRivalPoseDegrees away fits within 3 % (the surface alone
-  // cannot tell them apart: LiTS-9 onto three livers, two poses 54 deg apart, 9.3 mm RMS each,
-  // its curve 27 or 93 mm off). The returned pose stays the multi-start's choice; the closest
+  // Another allowed pose at least kRivalPoseDegrees away fits within 3 %, or better (the surface
+  // alone cannot tell them apart: LiTS-9 onto three livers, two poses 54 deg apart, 9.3 mm RMS
+  // each, its curve 27 or 93 mm off). The returned pose stays the multi-start's choice; the closest
   // rival's fit and both agreements with the target's signed principal axes (SignedAxes below)
   // are for the user, who knows the orientation.
   bool ambiguous = false;
@@ -77,7 +77,8 @@ double rotationAngleDegrees(const Eigen::Matrix3d& R);
 // `probeIterations`) is refined: shapes scanned in different orientations still align. The
 // identity wins ties. rmsOut (optional) receives the final RMS closest-point distance (m).
 // Starts whose probe turned the source by more than maxRotationDegrees are taken only when no
-// other is left (180: any orientation); `report` says what was chosen and refused.
+// other is left (180: any orientation); `report` says what was chosen and refused, and whether
+// a rival pose fits alike (up to three more starts refined).
 RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& target,
                                       const IcpOptions& options = {}, int probeIterations = 8,
                                       double* rmsOut = nullptr, double maxRotationDegrees = 180.0,
