@@ -44,6 +44,21 @@ void weightedGram(const Eigen::Ref<const Eigen::MatrixXd>& D,
   if (D.rows() >= largeFrom) P.triangularView<Eigen::StrictlyUpper>() = P.transpose();
 }
 
+namespace {
+// C = A B (or A B^T) by BLAS: C is resized to A's rows by B's columns (or rows).
+void gemm(const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& B,
+          bool transposeB, Eigen::MatrixXd& C) {
+  const int m = static_cast<int>(A.rows());
+  const int n = static_cast<int>(transposeB ? B.rows() : B.cols());
+  const int k = static_cast<int>(A.cols());
+  C.resize(m, n);
+  const int lda = static_cast<int>(A.outerStride()), ldb = static_cast<int>(B.outerStride());
+  const double one = 1.0, zero = 0.0;
+  dgemm_("N", transposeB ? "T" : "N", &m, &n, &k, &one, A.data(), &lda, B.data(), &ldb, &zero,
+         C.data(), &m);
+}
+}  // namespace
+
 void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A,
               const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::MatrixXd& C,
               Eigen::Index largeFrom) {
@@ -52,12 +67,7 @@ void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A,
     C.noalias() = A * B;
     return;
   }
-  C.resize(A.rows(), B.cols());
-  const int m = static_cast<int>(A.rows()), n = static_cast<int>(B.cols());
-  const int k = static_cast<int>(A.cols());
-  const int lda = static_cast<int>(A.outerStride()), ldb = static_cast<int>(B.outerStride());
-  const double one = 1.0, zero = 0.0;
-  dgemm_("N", "N", &m, &n, &k, &one, A.data(), &lda, B.data(), &ldb, &zero, C.data(), &m);
+  gemm(A, B, false, C);
 }
 
 void multiplyByTranspose(const Eigen::Ref<const Eigen::MatrixXd>& A,
@@ -68,12 +78,7 @@ void multiplyByTranspose(const Eigen::Ref<const Eigen::MatrixXd>& A,
     C.noalias() = A * B.transpose();
     return;
   }
-  C.resize(A.rows(), B.rows());
-  const int m = static_cast<int>(A.rows()), n = static_cast<int>(B.rows());
-  const int k = static_cast<int>(A.cols());
-  const int lda = static_cast<int>(A.outerStride()), ldb = static_cast<int>(B.outerStride());
-  const double one = 1.0, zero = 0.0;
-  dgemm_("N", "T", &m, &n, &k, &one, A.data(), &lda, B.data(), &ldb, &zero, C.data(), &m);
+  gemm(A, B, true, C);
 }
 
 void subtractGram(const Eigen::Ref<const Eigen::MatrixXd>& G, Eigen::MatrixXd& P,
