@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -133,7 +134,7 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
     const RigidTransform& chosenProbe = restricted ? plausible : best;
     std::sort(allowed.begin(), allowed.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
-    const SignedAxes sa = signedAxes(source), ta = signedAxes(target);
+    std::optional<SignedAxes> sa, ta;  // found when a rival is, not on every alignment
     std::vector<Eigen::Matrix3d> seen{out.rotation};
     int refined = 0;
     for (const auto& [probeRms, t] : allowed) {
@@ -155,8 +156,12 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
       r.ambiguous = true;
       r.rivalRms = rivalRms;
       r.rivalApartDegrees = rotationAngleDegrees(rival.rotation * out.rotation.transpose());
-      r.axesAgreement = axesAgreement(sa, ta, out.rotation);
-      r.rivalAxesAgreement = axesAgreement(sa, ta, rival.rotation);
+      if (!sa) {
+        sa = signedAxes(source);
+        ta = signedAxes(target);
+      }
+      r.axesAgreement = axesAgreement(*sa, *ta, out.rotation);
+      r.rivalAxesAgreement = axesAgreement(*sa, *ta, rival.rotation);
     }
   }
   r.rotationDegrees = rotationAngleDegrees(out.rotation);
