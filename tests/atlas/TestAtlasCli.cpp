@@ -63,6 +63,14 @@ TEST(AtlasCli, DistancePrintsTheVarifoldDistanceAndBadInputIsOneLine) {
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("missing.obj"), std::string::npos) << bad.err;
   EXPECT_EQ(bad.err.find('\n'), bad.err.size() - 1) << bad.err;  // one line
+  // The ridge options' bad values: one line each, before any work.
+  const CliRun negative = runCli(dir, "atlas build . --ridge --ridge-weight -1");
+  EXPECT_EQ(negative.code, 2);
+  EXPECT_NE(negative.err.find("--ridge-weight"), std::string::npos) << negative.err;
+  EXPECT_EQ(negative.err.find('\n'), negative.err.size() - 1) << negative.err;
+  const CliRun alone = runCli(dir, "atlas loo . --ridge-on-held-out");
+  EXPECT_EQ(alone.code, 2);
+  EXPECT_EQ(alone.err, "bcassim: error: --ridge-on-held-out: needs --ridge\n");
   const CliRun noAtlas = runCli(dir, "atlas transfer nowhere a.obj");
   EXPECT_EQ(noAtlas.code, 2);
   EXPECT_NE(noAtlas.err.find("nowhere: expected an atlas folder"), std::string::npos)
@@ -131,6 +139,19 @@ TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
                                         "' --iterations 5 --out ridged");
   ASSERT_EQ(ridged.code, 0) << ridged.err;
   EXPECT_TRUE(fs::exists(dir / "ridged/ligament_curve.csv"));
+  // A .eseg that labels no ridge: one line naming it.
+  {
+    std::ifstream in(kLivers / "LiTS-3.eseg");
+    std::ofstream out(dir / "no-ridge.eseg");
+    for (std::string line; std::getline(in, line);) {  // the shared files end lines with \r\n
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      out << (line == "3" ? "1" : line) << '\n';
+    }
+  }
+  const CliRun noRidge = runCli(dir, "atlas transfer atlas '" + (kLivers / "LiTS-3.obj").string() +
+                                         "' --ridge-from no-ridge.eseg --out none");
+  EXPECT_EQ(noRidge.code, 2);
+  EXPECT_EQ(noRidge.err, "bcassim: error: no-ridge.eseg: no edge carries label 3 (the ridge)\n");
   fs::remove_all(dir);
 }
 

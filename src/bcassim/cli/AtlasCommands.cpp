@@ -583,6 +583,7 @@ class AtlasLooCommand : public Command {
   int run() override {
     const TbbThreadLimit limit(threads_);
     const auto t0 = Clock::now();
+    if (ridgeOnHeldOut_ && !ridge_) throw InputError("--ridge-on-held-out: needs --ridge");
     LiverFolder livers = readAnnotatedLivers(dir_, label_, scale_);
     for (const std::string& s : livers.skipped) fmt::print("skipped {}\n", s);
     if (maxLivers_ > 0 && static_cast<int>(livers.subjects.size()) > maxLivers_)
@@ -606,7 +607,6 @@ class AtlasLooCommand : public Command {
     o.ridge = ridge_;
     o.ridgeOnHeldOut = ridgeOnHeldOut_;
     o.atlas.registration.curveWeight = ridgeWeight_;
-    if (ridgeOnHeldOut_ && !ridge_) throw InputError("--ridge-on-held-out: needs --ridge");
     if (!templ_.empty()) {
       o.templateSubject = -1;
       for (int i = 0; i < n; ++i)
