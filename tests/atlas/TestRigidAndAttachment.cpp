@@ -3,6 +3,8 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <array>
+#include <vector>
 
 #include "atlas/AtlasTestMeshes.h"
 #include "bcassim/Error.h"
@@ -134,6 +136,76 @@ TEST(RigidAlignment, MultiStartSaysWhenTwoPosesFitAlike) {
   EXPECT_TRUE(report.ambiguous);
   EXPECT_NEAR(report.rivalApartDegrees, 180.0, 1.0);
   EXPECT_GT(kept.rotation(0, 0), 0.999);
+}
+
+TEST(RigidAlignment, ACurveOnBothSurfacesTellsSymmetricPosesApart) {
+  // A plain ellipsoid turned half a turn about z (and a little more): its half turns fit it
+  // exactly, so the surface cannot tell the motion from them. A curve drawn on one side of it
+  // (edges at x > 0.04 m, z > 0) and moved with it can.
+  const TriMesh source = [] {
+    TriMesh m = test::makeIcosphere(1.0, 3);
+    m.V = m.V * Eigen::Vector3d(0.08, 0.05, 0.03).asDiagonal();
+    return m;
+  }();
+  std::vector<std::array<int, 2>> edges;
+  for (Eigen::Index f = 0; f < source.F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = source.F(f, k), b = source.F(f, (k + 1) % 3);
+      const auto onSide = [&](int v) { return source.V(v, 0) > 0.04 && source.V(v, 2) > 0.0; };
+      if (a < b && onSide(a) && onSide(b)) edges.push_back({a, b});
+    }
+  }
+  ASSERT_GE(edges.size(), 10u);
+  CurvePair curve;
+  curve.source.resize(static_cast<Eigen::Index>(edges.size()), 2);
+  for (size_t e = 0; e < edges.size(); ++e)
+    curve.source.row(static_cast<Eigen::Index>(e)) << edges[e][0], edges[e][1];
+  curve.target = curve.source;  // the target is the moved source: the same vertex ids
+  RigidTransform t;
+  t.rotation = Eigen::AngleAxisd(M_PI + 0.15, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  t.translation = Eigen::Vector3d(0.01, -0.02, 0.015);
+  TriMesh target = source;
+  target.V = t.apply(source.V);
+
+  MultiStartReport surfaceOnly;
+  alignRigidlyMultiStart(source, target, {}, 8, nullptr, 180.0, &surfaceOnly);
+  EXPECT_TRUE(surfaceOnly.ambiguous);
+  MultiStartReport withCurve;
+  double rms = 1.0;
+  IcpOptions longer;  // the trimmed curve term slows ICP's last millimetres down
+  longer.maxIterations = 300;
+  const RigidTransform r =
+      alignRigidlyMultiStart(source, target, longer, 8, &rms, 180.0, &withCurve, &curve, 1.0);
+  EXPECT_LT((r.rotation - t.rotation).cwiseAbs().maxCoeff(), 1e-3);
+  EXPECT_LT((r.translation - t.translation).norm(), 1e-4);
+  EXPECT_LT(rms, 1e-4);
+  EXPECT_DOUBLE_EQ(withCurve.rms, rms);
+  EXPECT_FALSE(withCurve.ambiguous);  // the symmetric poses put the curve on the wrong side
+  // The target's curve labelled shorter (its edges beyond x = 0.045 m only): the source's points
+  // past its end, fewer than a fifth, are left out of each step instead of pulling the pose.
+  CurvePair shorter = curve;
+  std::vector<int> keptEdges;
+  for (Eigen::Index e = 0; e < curve.source.rows(); ++e)
+    if (source.V(curve.source(e, 0), 0) > 0.045 && source.V(curve.source(e, 1), 0) > 0.045)
+      keptEdges.push_back(static_cast<int>(e));
+  shorter.target = curve.source(keptEdges, Eigen::placeholders::all);
+  ASSERT_LT(shorter.target.rows(), curve.source.rows());
+  const RigidTransform rs =
+      alignRigidlyMultiStart(source, target, longer, 8, nullptr, 180.0, nullptr, &shorter, 1.0);
+  EXPECT_LT((rs.rotation - t.rotation).cwiseAbs().maxCoeff(), 1e-3);
+  EXPECT_LT((rs.translation - t.translation).norm(), 1e-4);
+  // A curve on one surface only: no curve term, the surface's fit.
+  const CurvePair half{curve.source, Eigen::MatrixX2i()};
+  MultiStartReport oneSided;
+  alignRigidlyMultiStart(source, target, {}, 8, nullptr, 180.0, &oneSided, &half, 1.0);
+  EXPECT_TRUE(oneSided.ambiguous);
+  EXPECT_DOUBLE_EQ(oneSided.rms, surfaceOnly.rms);
+  try {
+    alignRigidlyMultiStart(source, target, {}, 8, nullptr, 180.0, nullptr, &curve, -1.0);
+    FAIL() << "a negative curve weight was taken";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "rigid alignment: curve weight must be >= 0, got -1");
+  }
 }
 
 TEST(RigidAlignment, RotationAngleOfAxisAngles) {

@@ -43,7 +43,17 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
   res.dataRatio.assign(n, 0.0);
   res.registrationSeconds.assign(n, 0.0);
   std::vector<Eigen::MatrixX3d> curves(n), carried(n), deformed(n);
-  // Size and rigid alignment onto the centred template subject (surface and curve together).
+  std::vector<bool> isHeld(n, false);
+  for (int h : held) isHeld[h] = true;
+  // The template's and subject i's ridges, for the multi-object data term and the rigid fit; the
+  // held-out liver's only with ridgeOnHeldOut (its one rigid pose serves it as a training liver
+  // of the other folds too, so without ridgeOnHeldOut that pose is the surface's alone).
+  auto ridgePair = [&](int i) {
+    return CurvePair{subjects[o.templateSubject].ridge, subjects[i].ridge};
+  };
+  auto ridgeUsed = [&](int i) { return o.ridge && (!isHeld[i] || o.ridgeOnHeldOut); };
+  // Size and rigid alignment onto the centred template subject (surface and curve together; the
+  // ridges too where the registrations use them).
   std::vector<TriMesh> aligned(n);
   std::vector<Eigen::MatrixX3d> alignedCurves(n);
   for (int i = 0; i < n; ++i) {
@@ -59,8 +69,10 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
         c *= res.scale[i];
       }
       MultiStartReport rep;
-      const RigidTransform t = alignRigidlyMultiStart(s, templ, {}, 8, &res.alignmentRms[i],
-                                                      o.atlas.maxRotationDegrees, &rep);
+      const CurvePair ridge{subjects[i].ridge, subjects[o.templateSubject].ridge};
+      const RigidTransform t = alignRigidlyMultiStart(
+          s, templ, {}, 8, &res.alignmentRms[i], o.atlas.maxRotationDegrees, &rep,
+          ridgeUsed(i) ? &ridge : nullptr, o.atlas.registration.curveWeight);
       for (const std::string& doubt : poseDoubts(rep, o.atlas.maxRotationDegrees))
         say(fmt::format("{}: {}", subjects[i].name, doubt));
       s.V = t.apply(s.V);
@@ -69,12 +81,6 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     aligned[i] = s;
     alignedCurves[i] = c;
   }
-  // The template's and subject i's ridges, for the multi-object data term.
-  auto ridgePair = [&](int i) {
-    return CurvePair{subjects[o.templateSubject].ridge, subjects[i].ridge};
-  };
-  std::vector<bool> isHeld(n, false);
-  for (int h : held) isHeld[h] = true;
   std::vector<Eigen::MatrixX3d> deformedHeld(n);  // template -> h as a held-out liver sees it
   if (o.frechetTemplate) {
     // Template shape: Fréchet mean of the surfaces (eq. 4.8), started from the template subject.

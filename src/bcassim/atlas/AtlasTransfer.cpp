@@ -15,15 +15,16 @@ AtlasTransfer transferAtlas(const LigamentAtlas& atlas, const TriMesh& patient,
         "livers whose .eseg labels the ridge, 3)");
   }
   AtlasTransfer t;
+  const CurvePair ridges{atlas.templRidge, patientRidge ? *patientRidge : Eigen::MatrixX2i()};
   if (rigidAlign) {
     t.rigid = alignRigidlyMultiStart(atlas.templ, patient, {}, 8, &t.rigidRms, maxRotationDegrees,
-                                     &t.rigidReport);
+                                     &t.rigidReport, patientRidge ? &ridges : nullptr,
+                                     options.curveWeight);
   } else {
     t.rigid.translation = Eigen::Vector3d::Zero();
   }
   TriMesh moved = atlas.templ;
   moved.V = t.rigid.apply(atlas.templ.V);
-  const CurvePair ridges{atlas.templRidge, patientRidge ? *patientRidge : Eigen::MatrixX2i()};
   t.registration = registerSurface(moved, patient, options, patientRidge ? &ridges : nullptr);
   t.deformedTemplate = TriMesh{t.registration.deformedVertices, atlas.templ.F};
   t.curve = carryCurve(atlas.curve, t.registration.deformedVertices);

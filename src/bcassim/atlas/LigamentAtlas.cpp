@@ -103,8 +103,10 @@ LigamentAtlas buildLigamentAtlas(const std::vector<AtlasSubject>& subjects,
     curves[i].rowwise() -= ci;
     if (o.rigidAlign && i != o.templateSubject) {
       MultiStartReport rep;
+      const CurvePair ridge{s.ridge, subjects[o.templateSubject].ridge};
       const RigidTransform t = alignRigidlyMultiStart(
-          shapes[i], initial, {}, 8, &atlas.alignmentRms[i], o.maxRotationDegrees, &rep);
+          shapes[i], initial, {}, 8, &atlas.alignmentRms[i], o.maxRotationDegrees, &rep,
+          o.ridge ? &ridge : nullptr, o.registration.curveWeight);
       for (const std::string& doubt : poseDoubts(rep, o.maxRotationDegrees))
         say(fmt::format("{}: {}", subjects[i].name, doubt));
       shapes[i].V = t.apply(shapes[i].V);

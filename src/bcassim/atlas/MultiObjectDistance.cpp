@@ -36,7 +36,7 @@ std::unique_ptr<SurfaceDistance> makeDataTerm(const TriMesh& target, const Regis
   if (!(o.curveWeight >= 0.0) || !std::isfinite(o.curveWeight)) {
     throw InputError(fmt::format("curve data-term weight must be >= 0, got {}", o.curveWeight));
   }
-  if (curves && curves->source.rows() > 0 && curves->target.rows() > 0 && o.curveWeight > 0.0) {
+  if (curves && curves->present() && o.curveWeight > 0.0) {
     return std::make_unique<MultiObjectDistance>(target, curves->target, curves->source, o.sigmaW,
                                                  o.dataTerm, o.curveWeight);
   }

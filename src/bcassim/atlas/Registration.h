@@ -3,6 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 
+#include "bcassim/atlas/CurvePair.h"
 #include "bcassim/atlas/FaceKernelSum.h"
 #include "bcassim/atlas/GeodesicShooting.h"
 #include "bcassim/atlas/Lbfgs.h"
@@ -22,12 +23,6 @@ struct RegistrationOptions {
   // Weight of a curve drawn on both surfaces (CurvePair) in the multi-object data term,
   // relative to the surface's (MultiObjectDistance.h); 0: the surfaces alone.
   double curveWeight = 1.0;
-};
-
-// A curve drawn on the source and on the target surface (the liver's ridge, .eseg label 3), as
-// edges: vertex pairs of each surface. Either one empty: no curve term.
-struct CurvePair {
-  Eigen::MatrixX2i source, target;
 };
 
 struct RegistrationResult {

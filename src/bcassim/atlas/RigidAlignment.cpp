@@ -23,24 +23,99 @@ RigidTransform procrustes(const Eigen::MatrixX3d& P, const Eigen::MatrixX3d& Q) 
 }
 
 namespace {
-// ICP from `start`; returns the transform and writes the last RMS distance.
+// The curve of both surfaces as the ICP sees it: the source curve's vertices, each drawn to its
+// closest point on the target curve's segments (a few hundred of each: searched directly).
+struct IcpCurve {
+  Eigen::MatrixX3d points;  // source curve vertices (source frame)
+  Eigen::MatrixX3d a, b;    // target segments' ends
+  double weight = 0.0;      // of the curve's mean squared distance, the surface's being 1
+  // Fraction of the curve points used at each iteration, the closest (trimmed ICP): experts
+  // label as much of a ridge as each CT shows, so one liver's may run on past the other's end,
+  // and those points would pull the pose. Leave-one-out on the 55 shared livers (held-out ridge
+  // used): all points 8.5 mm mean but one liver at 41 mm; 80 % 8.7 mm, worst 25 mm.
+  double keep = 0.8;
+
+  IcpCurve() = default;
+  IcpCurve(const TriMesh& source, const TriMesh& target, const CurvePair& pair, double w)
+      : weight(w) {
+    std::vector<int> ids(pair.source.data(), pair.source.data() + pair.source.size());
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    points.resize(static_cast<Eigen::Index>(ids.size()), 3);
+    for (size_t k = 0; k < ids.size(); ++k)
+      points.row(static_cast<Eigen::Index>(k)) = source.V.row(ids[k]);
+    a.resize(pair.target.rows(), 3);
+    b.resize(pair.target.rows(), 3);
+    for (Eigen::Index e = 0; e < pair.target.rows(); ++e) {
+      a.row(e) = target.V.row(pair.target(e, 0));
+      b.row(e) = target.V.row(pair.target(e, 1));
+    }
+  }
+  bool active() const { return weight > 0.0 && points.rows() > 0 && a.rows() > 0; }
+
+  Eigen::RowVector3d closest(const Eigen::RowVector3d& p) const {
+    double best = std::numeric_limits<double>::infinity();
+    Eigen::RowVector3d out = a.row(0);
+    for (Eigen::Index e = 0; e < a.rows(); ++e) {
+      const Eigen::RowVector3d d = b.row(e) - a.row(e);
+      const double len2 = d.squaredNorm();
+      const double s = len2 > 0.0 ? std::clamp((p - a.row(e)).dot(d) / len2, 0.0, 1.0) : 0.0;
+      const Eigen::RowVector3d q = a.row(e) + s * d;
+      const double dist2 = (p - q).squaredNorm();
+      if (dist2 < best) {
+        best = dist2;
+        out = q;
+      }
+    }
+    return out;
+  }
+};
+
+// ICP from `start`; returns the transform and writes the last RMS distance: of the surface, or
+// with a curve, sqrt((surface MSD + w curve MSD) / (1 + w)).
 RigidTransform icp(const TriMesh& source, const SurfaceLocator& locator, RigidTransform total,
-                   const IcpOptions& options, double* rmsOut) {
+                   const IcpOptions& options, double* rmsOut, const IcpCurve& curve = {}) {
   double previousRms = std::numeric_limits<double>::infinity();
-  Eigen::MatrixX3d closest(source.V.rows(), 3);
+  const Eigen::Index ns = source.V.rows();
+  const Eigen::Index nc = curve.active() ? curve.points.rows() : 0;
+  Eigen::MatrixX3d moved(ns + nc, 3), closest(ns + nc, 3);
+  Eigen::VectorXd weights(ns + nc);
+  weights.head(ns).setConstant(1.0 / static_cast<double>(ns));
+  if (nc > 0) weights.tail(nc).setConstant(curve.weight / static_cast<double>(nc));
+  const double totalWeight = weights.sum();
   for (int it = 0; it < options.maxIterations; ++it) {
-    const Eigen::MatrixX3d moved = total.apply(source.V);
+    moved.topRows(ns) = total.apply(source.V);
+    if (nc > 0) moved.bottomRows(nc) = total.apply(curve.points);
     double sum2 = 0.0;
-    for (Eigen::Index i = 0; i < moved.rows(); ++i) {
+    for (Eigen::Index i = 0; i < ns; ++i) {
       const SurfacePoint sp = locator.closest(moved.row(i).transpose());
       closest.row(i) = sp.point.transpose();
-      sum2 += sp.distance * sp.distance;
+      sum2 += weights(i) * sp.distance * sp.distance;
     }
-    const double rms = std::sqrt(sum2 / static_cast<double>(moved.rows()));
+    if (nc > 0) {
+      Eigen::VectorXd d2(nc);
+      for (Eigen::Index i = ns; i < ns + nc; ++i) {
+        closest.row(i) = curve.closest(moved.row(i));
+        d2(i - ns) = (moved.row(i) - closest.row(i)).squaredNorm();
+      }
+      const auto kept = std::max<Eigen::Index>(
+          1, static_cast<Eigen::Index>(std::ceil(curve.keep * static_cast<double>(nc))));
+      std::vector<double> sorted(d2.data(), d2.data() + nc);
+      std::nth_element(sorted.begin(), sorted.begin() + (kept - 1), sorted.end());
+      const double limit = sorted[static_cast<size_t>(kept - 1)];
+      Eigen::Index used = 0;
+      for (Eigen::Index k = 0; k < nc; ++k) used += d2(k) <= limit ? 1 : 0;
+      for (Eigen::Index k = 0; k < nc; ++k) {
+        weights(ns + k) = d2(k) <= limit ? curve.weight / static_cast<double>(used) : 0.0;
+        sum2 += weights(ns + k) * d2(k);
+      }
+    }
+    const double rms = std::sqrt(sum2 / totalWeight);
     if (rmsOut) *rmsOut = rms;
     if (std::abs(previousRms - rms) < options.tolerance) break;
     previousRms = rms;
-    const RigidTransform step = procrustes(moved, closest);
+    const RigidTransform step =
+        nc > 0 ? kabschFit(moved, closest, weights) : procrustes(moved, closest);
     total.rotation = step.rotation * total.rotation;
     total.translation = step.rotation * total.translation + step.translation;
   }
@@ -72,9 +147,16 @@ double rotationAngleDegrees(const Eigen::Matrix3d& R) {
 RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& target,
                                       const IcpOptions& options, int probeIterations,
                                       double* rmsOut, double maxRotationDegrees,
-                                      MultiStartReport* report) {
+                                      MultiStartReport* report, const CurvePair* curves,
+                                      double curveWeight) {
   if (source.V.rows() < 3) throw InputError("rigid alignment: source has fewer than 3 vertices");
+  if (!(curveWeight >= 0.0) || !std::isfinite(curveWeight)) {
+    throw InputError(
+        fmt::format("rigid alignment: curve weight must be >= 0, got {}", curveWeight));
+  }
   const SurfaceLocator locator(target);
+  const IcpCurve curve =
+      curves && curves->present() ? IcpCurve(source, target, *curves, curveWeight) : IcpCurve();
   // The 24 proper rotations among signed permutation matrices, identity first.
   std::vector<Eigen::Matrix3d> rotations;
   const int perms[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {1, 0, 2}, {0, 2, 1}, {2, 1, 0}};
@@ -94,7 +176,7 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
   std::vector<std::pair<double, RigidTransform>> allowed;  // every probe within the limit
   for (const Eigen::Matrix3d& R : rotations) {
     double rms = std::numeric_limits<double>::infinity();
-    const RigidTransform t = icp(source, locator, start(source, target, R), probe, &rms);
+    const RigidTransform t = icp(source, locator, start(source, target, R), probe, &rms, curve);
     if (rms < bestRms * (1.0 - 1e-9)) {
       bestRms = rms;
       best = t;
@@ -110,13 +192,13 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
   // No start stays within the limit: the best fit, unflagged.
   const bool restricted = std::isfinite(plausibleRms) && plausibleRms > bestRms;
   MultiStartReport r;
-  RigidTransform out = icp(source, locator, restricted ? plausible : best, options, &r.rms);
+  RigidTransform out = icp(source, locator, restricted ? plausible : best, options, &r.rms, curve);
   if (restricted) {
     // The refused start refined too: one ahead after the probe iterations may end behind
     // (LiTS-9 onto a three-liver template: 165.6 deg led the probes, then ended at RMS 11.2 mm
     // against 9.3 mm for 54.7 deg). Only a fit still clearly better is reported as refused.
     double refusedRms = 0.0;
-    const RigidTransform refused = icp(source, locator, best, options, &refusedRms);
+    const RigidTransform refused = icp(source, locator, best, options, &refusedRms, curve);
     if (refusedRms < 0.99 * r.rms) {  // by 1 %: a symmetric shape fits its turned copies alike
       r.rejected = true;
       r.rejectedRms = refusedRms;
@@ -143,7 +225,7 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
         continue;
       ++refined;
       double rivalRms = 0.0;
-      const RigidTransform rival = icp(source, locator, t, options, &rivalRms);
+      const RigidTransform rival = icp(source, locator, t, options, &rivalRms, curve);
       const bool distinct = std::all_of(seen.begin(), seen.end(), [&](const Eigen::Matrix3d& R) {
         return rotationAngleDegrees(rival.rotation * R.transpose()) >= kRivalPoseDegrees;
       });

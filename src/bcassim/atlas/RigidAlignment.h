@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "bcassim/atlas/CurvePair.h"
 #include "bcassim/mesh/RigidTransform.h"
 #include "bcassim/mesh/TriMesh.h"
 
@@ -79,10 +80,17 @@ double rotationAngleDegrees(const Eigen::Matrix3d& R);
 // Starts whose probe turned the source by more than maxRotationDegrees are taken only when no
 // other is left (180: any orientation); `report` says what was chosen and refused, and whether
 // a rival pose fits alike (up to three more starts refined).
+// curves (optional): a curve drawn on both surfaces (edges of each, the livers' ridge) fitted
+// too, each source curve vertex to its closest point on the target curve, its mean squared
+// distance weighted curveWeight times the surface's; every start is then judged by both, and the
+// RMS (rmsOut, the report's) is sqrt((surface MSD + curveWeight curve MSD) / (1 + curveWeight)).
+// Where the surface alone leaves two poses alike (MultiStartReport::ambiguous), the curve can
+// tell them apart. Throws InputError on a negative or non-finite curveWeight.
 RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& target,
                                       const IcpOptions& options = {}, int probeIterations = 8,
                                       double* rmsOut = nullptr, double maxRotationDegrees = 180.0,
-                                      MultiStartReport* report = nullptr);
+                                      MultiStartReport* report = nullptr,
+                                      const CurvePair* curves = nullptr, double curveWeight = 1.0);
 
 // Isotropic scale factor that gives `source` the surface area of `target`: sqrt(area(target) /
 // area(source)). Size normalisation before registration (as in Procrustes analysis with
