@@ -158,6 +158,7 @@ TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
 // LiTS-9 onto an atlas of three livers: two poses 54 deg apart fit it alike (RMS 9.3 mm each),
 // one puts the transferred curve 27 mm from the expert's, the other 93 mm. The surfaces cannot
 // tell them apart; the run must say so (and keep the multi-start's pose, the right one here).
+// The patient's ridge, when labelled, can: fitted with the surfaces, no rival is left.
 TEST(AtlasCli, TransferSaysWhenTwoPosesFitAlike) {
   if (!fs::exists(kLivers / "LiTS-9.eseg")) GTEST_SKIP() << "no annotated livers in " << kLivers;
   const fs::path dir = fs::temp_directory_path() / "bcassim_atlas_cli_pose";
@@ -170,6 +171,19 @@ TEST(AtlasCli, TransferSaysWhenTwoPosesFitAlike) {
   const std::string rest = transfer.out.substr(at);
   const double mean = std::stod(rest.substr(rest.find(" mean ") + 6));
   EXPECT_LT(mean, 40.0) << rest;  // mm; the rival pose: 93 mm
+  const CliRun ridged =
+      runCli(dir, "atlas transfer atlas '" + (kLivers / "LiTS-9.obj").string() + "' --eseg '" +
+                      (kLivers / "LiTS-9.eseg").string() + "' --ridge-from '" +
+                      (kLivers / "LiTS-9.eseg").string() + "' --iterations 5 --out ridged");
+  ASSERT_EQ(ridged.code, 0) << ridged.err;
+  EXPECT_NE(ridged.out.find("mm (surface and ridge together, the ridge's closest 80 %)\n"),
+            std::string::npos)
+      << ridged.out;
+  EXPECT_EQ(ridged.out.find("ambiguous pose"), std::string::npos) << ridged.out;
+  const auto atRidged = ridged.out.find("distance to the expert curve: planes ");
+  ASSERT_NE(atRidged, std::string::npos) << ridged.out;
+  const std::string restRidged = ridged.out.substr(atRidged);
+  EXPECT_LT(std::stod(restRidged.substr(restRidged.find(" mean ") + 6)), 40.0) << restRidged;
   fs::remove_all(dir);
 }
 

@@ -29,11 +29,6 @@ struct IcpCurve {
   Eigen::MatrixX3d points;  // source curve vertices (source frame)
   Eigen::MatrixX3d a, b;    // target segments' ends
   double weight = 0.0;      // of the curve's mean squared distance, the surface's being 1
-  // Fraction of the curve points used at each iteration, the closest (trimmed ICP): experts
-  // label as much of a ridge as each CT shows, so one liver's may run on past the other's end,
-  // and those points would pull the pose. Leave-one-out on the 55 shared livers (held-out ridge
-  // used): all points 8.5 mm mean but one liver at 41 mm; 80 % 8.7 mm, worst 25 mm.
-  double keep = 0.8;
 
   IcpCurve() = default;
   IcpCurve(const TriMesh& source, const TriMesh& target, const CurvePair& pair, double w)
@@ -99,7 +94,7 @@ RigidTransform icp(const TriMesh& source, const SurfaceLocator& locator, RigidTr
         d2(i - ns) = (moved.row(i) - closest.row(i)).squaredNorm();
       }
       const auto kept = std::max<Eigen::Index>(
-          1, static_cast<Eigen::Index>(std::ceil(curve.keep * static_cast<double>(nc))));
+          1, static_cast<Eigen::Index>(std::ceil(kCurveKeptFraction * static_cast<double>(nc))));
       std::vector<double> sorted(d2.data(), d2.data() + nc);
       std::nth_element(sorted.begin(), sorted.begin() + (kept - 1), sorted.end());
       const double limit = sorted[static_cast<size_t>(kept - 1)];
@@ -192,6 +187,7 @@ RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& targ
   // No start stays within the limit: the best fit, unflagged.
   const bool restricted = std::isfinite(plausibleRms) && plausibleRms > bestRms;
   MultiStartReport r;
+  r.withCurve = curve.active();
   RigidTransform out = icp(source, locator, restricted ? plausible : best, options, &r.rms, curve);
   if (restricted) {
     // The refused start refined too: one ahead after the probe iterations may end behind

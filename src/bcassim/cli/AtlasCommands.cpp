@@ -80,8 +80,12 @@ struct RegistrationFlags {
 
 // The rigid pre-alignment's rotation and residual, and a better fit refused as implausible.
 void printRigidAlignment(const MultiStartReport& r, double maxRotation) {
-  fmt::print("rigid alignment: turns the source {:.1f} deg, RMS closest-point distance {:.2f} mm\n",
-             r.rotationDegrees, 1e3 * r.rms);
+  fmt::print(
+      "rigid alignment: turns the source {:.1f} deg, RMS closest-point distance {:.2f} mm{}\n",
+      r.rotationDegrees, 1e3 * r.rms,
+      r.withCurve ? fmt::format(" (surface and ridge together, the ridge's closest {:.0f} %)",
+                                100.0 * kCurveKeptFraction)
+                  : std::string());
   if (r.rejected)
     fmt::print(
         "implausible pose refused: a rigid fit turning it {:.1f} deg (RMS {:.2f} mm) is beyond "
