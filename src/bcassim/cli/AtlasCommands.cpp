@@ -138,7 +138,8 @@ CurveCentre parseCentre(const std::string& c) {
 void addRidgeWeightOption(CLI::App& app, double& weight) {
   app.add_option("--ridge-weight", weight,
                  "Weight of the ridge term relative to the surface's, each measured against its "
-                 "own size (dimensionless; 1: as much as the surface)")
+                 "own size, in the registration and in the rigid fit (dimensionless; 1: as much as "
+                 "the surface)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
 }
@@ -147,7 +148,7 @@ void addRidgeWeightOption(CLI::App& app, double& weight) {
 void addRidgeOptions(CLI::App& app, bool& ridge, double& weight) {
   app.add_flag("--ridge", ridge,
                "Multi-object data term: match the livers' ridges (.eseg label 3, the "
-               "anterior-inferior border) along with their surfaces");
+               "anterior-inferior border) along with their surfaces, in the rigid fit too");
   addRidgeWeightOption(app, weight);
 }
 
@@ -380,7 +381,7 @@ class AtlasTransferCommand : public Command {
     app.add_option("--ridge-from", ridgeFrom_,
                    "A .eseg of the patient whose label 3 marks its ridge (the anterior-inferior "
                    "border, labelled or detected): matched with the atlas template's ridge "
-                   "(multi-object data term); its falciform labels are not used");
+                   "(rigid fit and multi-object data term); its falciform labels are not used");
     addRidgeWeightOption(app, ridgeWeight_);
     reg_.add(app);
     addThreadsOption(app, threads_, kKernelThreads, false);
@@ -578,8 +579,9 @@ class AtlasLooCommand : public Command {
         ->capture_default_str();
     addRidgeOptions(app, ridge_, ridgeWeight_);
     app.add_flag("--ridge-on-held-out", ridgeOnHeldOut_,
-                 "With --ridge: register the held-out liver with its ridge too (a patient whose "
-                 "ridge is labelled or detected; without it, from its surface alone)");
+                 "With --ridge: align and register the held-out liver with its ridge too (a "
+                 "patient whose ridge is labelled or detected; without it, from its surface "
+                 "alone)");
     reg_.add(app);
     addThreadsOption(app, threads_, kRegistrationThreads, false);
   }
