@@ -1,9 +1,11 @@
 // Rigid pre-alignment (Procrustes, ICP) and barycentric attachment of curves to surfaces.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <array>
+#include <string>
 #include <vector>
 
 #include "atlas/AtlasTestMeshes.h"
@@ -205,6 +207,17 @@ TEST(RigidAlignment, ACurveOnBothSurfacesTellsSymmetricPosesApart) {
     FAIL() << "a negative curve weight was taken";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "rigid alignment: curve weight must be >= 0, got -1");
+  }
+  CurvePair outside = curve;
+  outside.target(0, 1) = static_cast<int>(target.V.rows());
+  try {
+    alignRigidlyMultiStart(source, target, {}, 8, nullptr, 180.0, nullptr, &outside, 1.0);
+    FAIL() << "a curve edge beyond the surface's vertices was taken";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              fmt::format("rigid alignment: the target curve names vertices {}..{}, its surface "
+                          "has 0..{}",
+                          outside.target.minCoeff(), target.V.rows(), target.V.rows() - 1));
   }
 }
 

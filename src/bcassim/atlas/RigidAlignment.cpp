@@ -33,6 +33,15 @@ struct IcpCurve {
   IcpCurve() = default;
   IcpCurve(const TriMesh& source, const TriMesh& target, const CurvePair& pair, double w)
       : weight(w) {
+    const auto check = [](const Eigen::MatrixX2i& edges, const TriMesh& m, const char* which) {
+      if (edges.size() > 0 && (edges.minCoeff() < 0 || edges.maxCoeff() >= m.V.rows())) {
+        throw InputError(fmt::format(
+            "rigid alignment: the {} curve names vertices {}..{}, its surface has 0..{}", which,
+            edges.minCoeff(), edges.maxCoeff(), m.V.rows() - 1));
+      }
+    };
+    check(pair.source, source, "source");
+    check(pair.target, target, "target");
     std::vector<int> ids(pair.source.data(), pair.source.data() + pair.source.size());
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());

@@ -88,11 +88,13 @@ double rotationAngleDegrees(const Eigen::Matrix3d& R);
 // other is left (180: any orientation); `report` says what was chosen and refused, and whether
 // a rival pose fits alike (up to three more starts refined).
 // curves (optional): a curve drawn on both surfaces (edges of each, the livers' ridge) fitted
-// too, each source curve vertex to its closest point on the target curve, its mean squared
-// distance weighted curveWeight times the surface's; every start is then judged by both, and the
-// RMS (rmsOut, the report's) is sqrt((surface MSD + curveWeight curve MSD) / (1 + curveWeight)).
-// Where the surface alone leaves two poses alike (MultiStartReport::ambiguous), the curve can
-// tell them apart. Throws InputError on a negative or non-finite curveWeight.
+// too, each source curve vertex to its closest point on the target curve (the closest
+// kCurveKeptFraction of them at each iteration), their mean squared distance weighted
+// curveWeight times the surface's; every start is then judged by both, and the RMS (rmsOut, the
+// report's) is sqrt((surface MSD + curveWeight curve MSD) / (1 + curveWeight)). Where the
+// surface alone leaves two poses alike (MultiStartReport::ambiguous), the curve can tell them
+// apart. Throws InputError on a negative or non-finite curveWeight, or a curve edge naming a
+// vertex its surface does not have.
 RigidTransform alignRigidlyMultiStart(const TriMesh& source, const TriMesh& target,
                                       const IcpOptions& options = {}, int probeIterations = 8,
                                       double* rmsOut = nullptr, double maxRotationDegrees = 180.0,
