@@ -9,6 +9,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/atlas/PlaneIntersection.h"
+#include "bcassim/mesh/ClosestPoint.h"
 
 namespace bcassim {
 
@@ -16,11 +17,8 @@ double distanceToPolyline(const Eigen::Vector3d& p, const Eigen::MatrixX3d& c) {
   if (c.rows() == 0) throw InputError("curve distance: empty polyline");
   double best = (p - c.row(0).transpose()).norm();
   for (Eigen::Index i = 0; i + 1 < c.rows(); ++i) {
-    const Eigen::Vector3d a = c.row(i).transpose(), b = c.row(i + 1).transpose();
-    const Eigen::Vector3d ab = b - a;
-    const double l2 = ab.squaredNorm();
-    const double t = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (p - (a + t * ab)).norm());
+    const Vec3 q = closestPointOnSegment(p, c.row(i).transpose(), c.row(i + 1).transpose());
+    best = std::min(best, (p - q).norm());
   }
   return best;
 }

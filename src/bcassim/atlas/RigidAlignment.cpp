@@ -61,10 +61,9 @@ struct IcpCurve {
     double best = std::numeric_limits<double>::infinity();
     Eigen::RowVector3d out = a.row(0);
     for (Eigen::Index e = 0; e < a.rows(); ++e) {
-      const Eigen::RowVector3d d = b.row(e) - a.row(e);
-      const double len2 = d.squaredNorm();
-      const double s = len2 > 0.0 ? std::clamp((p - a.row(e)).dot(d) / len2, 0.0, 1.0) : 0.0;
-      const Eigen::RowVector3d q = a.row(e) + s * d;
+      const Eigen::RowVector3d q =
+          closestPointOnSegment(p.transpose(), a.row(e).transpose(), b.row(e).transpose())
+              .transpose();
       const double dist2 = (p - q).squaredNorm();
       if (dist2 < best) {
         best = dist2;

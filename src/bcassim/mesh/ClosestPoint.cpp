@@ -2,12 +2,21 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "bcassim/Error.h"
 
 namespace bcassim {
 
 // Ericson, Real-Time Collision Detection, 5.1.5: classify p against the Voronoi regions of the
 // vertices, edges and face, so no square roots and no special cases beyond zero denominators.
+Vec3 closestPointOnSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return a + t * ab;
+}
+
 Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);

@@ -1,5 +1,5 @@
-// Closest point on a triangle surface: a single-triangle kernel and SurfaceLocator, an AABB-tree
-// index built once and queried many times (marker projection, surface distances). Metres.
+// Closest point on a triangle surface: single-triangle and segment kernels and SurfaceLocator, an
+// AABB-tree index built once and queried many times (marker projection, surface distances). Metres.
 #pragma once
 #include <vector>
 
@@ -19,6 +19,9 @@ struct SurfacePoint {
 // Barycentric weights (of a, b, c) of the point of triangle abc closest to p. Degenerate triangles
 // are handled: the result is still a point of the triangle.
 Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+// The point of segment ab closest to p (a when the segment has zero length).
+Vec3 closestPointOnSegment(const Vec3& p, const Vec3& a, const Vec3& b);
 
 class SurfaceLocator {
  public:

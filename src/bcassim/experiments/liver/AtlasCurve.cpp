@@ -11,6 +11,7 @@
 #include "bcassim/Types.h"
 #include "bcassim/atlas/AnnotatedLivers.h"
 #include "bcassim/atlas/AtlasTransfer.h"
+#include "bcassim/atlas/CurveComparison.h"
 #include "bcassim/atlas/LigamentAtlasFile.h"
 
 namespace bcassim {
@@ -102,17 +103,8 @@ AtlasCurve transferredAtlasCurve(const TriMesh& patient, const std::string& atla
 std::vector<double> distancesToPolyline(const Eigen::MatrixX3d& curve,
                                         const Eigen::MatrixX3d& reference) {
   std::vector<double> d;
-  for (Eigen::Index i = 0; i < curve.rows(); ++i) {
-    const Vec3 p = curve.row(i).transpose();
-    double best = (p - reference.row(0).transpose()).norm();
-    for (Eigen::Index k = 0; k + 1 < reference.rows(); ++k) {
-      const Vec3 a = reference.row(k).transpose(), b = reference.row(k + 1).transpose();
-      const double len2 = (b - a).squaredNorm();
-      const double s = len2 > 0 ? std::clamp((p - a).dot(b - a) / len2, 0.0, 1.0) : 0.0;
-      best = std::min(best, (p - a - s * (b - a)).norm());
-    }
-    d.push_back(best);
-  }
+  for (Eigen::Index i = 0; i < curve.rows(); ++i)
+    d.push_back(distanceToPolyline(curve.row(i).transpose(), reference));
   return d;
 }
 
