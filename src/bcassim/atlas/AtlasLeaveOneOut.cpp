@@ -107,8 +107,7 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
       deformed[i] = r.deformedVertices;
       res.dataRatio[i] = r.data / r.initialData;
       deformedHeld[i] = deformed[i];
-      if (o.ridge && !o.ridgeOnHeldOut && isHeld[i] && ridge.source.rows() > 0 &&
-          ridge.target.rows() > 0) {
+      if (o.ridge && !ridgeUsed(i) && ridge.present()) {  // the held-out role, without it
         deformedHeld[i] = registerSurface(templ, s, o.atlas.registration).deformedVertices;
       }
     } else {
