@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -29,6 +30,13 @@ void printScenario(const LiverScenario& s) {
       "meshes: estimation {} nodes / {} tets, truth {} nodes / {} tets ({:.1f} s + {:.1f} s)\n",
       s.coarse.outputNodes, s.coarse.outputTets, s.fine.outputNodes, s.fine.outputTets,
       s.coarse.seconds, s.fine.seconds);
+  if (s.coarse.insideTestDomain || s.fine.insideTestDomain) {
+    const SurfaceMeshingReport& r = s.coarse.insideTestDomain ? s.coarse : s.fine;
+    fmt::print(
+        "meshes: the repaired surface was not usable ({}); meshed from the surface's ray-vote "
+        "inside test instead (boundary within {:.2f} mm of the input surface)\n",
+        r.repairProblem, 1e3 * std::max(s.coarse.boundaryDeviation, s.fine.boundaryDeviation));
+  }
   fmt::print("falciform curve {:.1f} mm; frame: lateral {} anterior {} superior {}{}\n",
              1e3 * s.curveLength, formatVec3(s.anatomy.lateral, 3),
              formatVec3(s.anatomy.anterior, 3), formatVec3(s.anatomy.superior, 3),

@@ -2,7 +2,11 @@
 // CGAL includes of the project live in this file, so only it pays CGAL's compile time.
 #include "bcassim/ligaments/SurfaceMesher.h"
 
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_triangulation_3.h>
@@ -21,17 +25,20 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/make_mesh_3.h>
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <numeric>
 #include <unordered_map>
 
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
 #include "bcassim/io/ObjFormat.h"
+#include "bcassim/mesh/BoundarySurface.h"
 #include "bcassim/mesh/MeshQuality.h"
 #include "bcassim/mesh/MeshValidation.h"
 
@@ -43,10 +50,17 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Surface = CGAL::Surface_mesh<Point>;
 using Domain = CGAL::Polyhedral_mesh_domain_3<Surface, Kernel>;
+using ImplicitDomain = CGAL::Labeled_mesh_domain_3<Kernel>;
 // Sequential_tag: the parallel mesher's result depends on thread scheduling.
-using Triangulation = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_tag>::type;
-using Complex = CGAL::Mesh_complex_3_in_triangulation_3<Triangulation>;
-using Criteria = CGAL::Mesh_criteria_3<Triangulation>;
+template <class D>
+using TriangulationOf =
+    typename CGAL::Mesh_triangulation_3<D, CGAL::Default, CGAL::Sequential_tag>::type;
+template <class D>
+using ComplexOf = CGAL::Mesh_complex_3_in_triangulation_3<TriangulationOf<D>>;
+using Triangle = Kernel::Triangle_3;
+using TrianglePrimitive =
+    CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
+using TriangleTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, TrianglePrimitive>>;
 
 using Polygon = std::vector<std::size_t>;
 
@@ -78,9 +92,11 @@ std::vector<std::pair<Surface::Halfedge_index, int>> borderLoops(const Surface& 
 }
 
 // Makes `surface` a closed, consistently outward oriented, single-component mesh, recording what it
-// changed in `report`.
+// changed in `report`. `soupPoints`/`soupPolygons` receive the soup after merging duplicates and
+// dropping degenerate faces, before any orientation or hole filling.
 Surface repairSurface(const TriMesh& surface, double scale, int maxHoleEdges,
-                      const std::string& source, SurfaceMeshingReport& report) {
+                      const std::string& source, SurfaceMeshingReport& report,
+                      std::vector<Point>& soupPoints, std::vector<Polygon>& soupPolygons) {
   std::vector<Point> points;
   points.reserve(surface.V.rows());
   for (Eigen::Index i = 0; i < surface.V.rows(); ++i) {
@@ -95,6 +111,8 @@ Surface repairSurface(const TriMesh& surface, double scale, int maxHoleEdges,
   report.mergedVertices = countDuplicatePoints(points);
   // Merges duplicate points, drops degenerate and duplicate polygons and unused points.
   PMP::repair_polygon_soup(points, polygons);
+  soupPoints = points;
+  soupPolygons = polygons;
   report.removedFaces = report.inputFaces - static_cast<int>(polygons.size());
   const std::vector<Polygon> beforeOrient = polygons;
   // Non-manifold vertices are duplicated here so that the soup becomes an orientable mesh.
@@ -166,8 +184,9 @@ TriMesh toTriMesh(const Surface& mesh) {
 }
 
 // Cells of the complex as a TetMesh, nodes numbered in order of first use, tets made positive.
+template <class Complex>
 TetMesh toTetMesh(const Complex& complex) {
-  std::unordered_map<Triangulation::Vertex_handle, int> index;
+  std::unordered_map<typename Complex::Triangulation::Vertex_handle, int> index;
   std::vector<Vec3> nodes;
   std::vector<Eigen::Vector4i> tets;
   for (auto c = complex.cells_in_complex_begin(); c != complex.cells_in_complex_end(); ++c) {
@@ -194,21 +213,248 @@ TetMesh toTetMesh(const Complex& complex) {
   return mesh;
 }
 
-TetMesh runMesh3(const Surface& surface, double cellSize, const SurfaceMeshingOptions& options) {
+template <class D>
+TetMesh runMesh3(const D& domain, double cellSize, const SurfaceMeshingOptions& options) {
   namespace params = CGAL::parameters;
-  CGAL::Random rng(0);
-  Domain domain(surface, &rng);
+  using Complex = ComplexOf<D>;
   // facet_distance 1/10 of the size keeps the enclosed volume within ~1-2 % of the surface's.
-  Criteria criteria(params::facet_angle = options.facetAngleDeg, params::facet_size = cellSize,
-                    params::facet_distance = 0.1 * cellSize,
-                    params::cell_radius_edge_ratio = options.radiusEdgeRatio,
-                    params::cell_size = cellSize);
+  CGAL::Mesh_criteria_3<TriangulationOf<D>> criteria(
+      params::facet_angle = options.facetAngleDeg, params::facet_size = cellSize,
+      params::facet_distance = 0.1 * cellSize,
+      params::cell_radius_edge_ratio = options.radiusEdgeRatio, params::cell_size = cellSize);
   // Perturbation is skipped (bounded by wall time); exudation, optional, also varies between runs.
   Complex complex =
       options.exude
           ? CGAL::make_mesh_3<Complex>(domain, criteria, params::no_perturb(), params::exude())
           : CGAL::make_mesh_3<Complex>(domain, criteria, params::no_perturb(), params::no_exude());
   return toTetMesh(complex);
+}
+
+// Points the ray-vote inside test says are inside: most of kRays rays from the point cross the
+// soup an odd number of times. Parity needs no consistent orientation, and a ray that leaves
+// through a small hole is outvoted by the others, so a soup that cannot be made a closed oriented
+// mesh (an orientation seam, holes) still has a well-defined inside.
+class RayVoteInsideTest {
+ public:
+  static constexpr int kRays = 7;
+
+  explicit RayVoteInsideTest(std::vector<Triangle> triangles) : triangles_(std::move(triangles)) {
+    tree_.rebuild(triangles_.begin(), triangles_.end());
+    tree_.accelerate_distance_queries();
+    // Fibonacci directions: spread over the sphere and, being irrational, unlikely to graze an
+    // edge or a vertex of a soup on a grid (which would count one crossing twice).
+    const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
+    for (int i = 0; i < kRays; ++i) {
+      const double z = 1 - (2 * i + 1.0) / kRays, r = std::sqrt(1 - z * z);
+      directions_[i] = Kernel::Vector_3(r * std::cos(golden * i), r * std::sin(golden * i), z);
+    }
+  }
+
+  // How many of the rays from p cross the soup an odd number of times (0..kRays).
+  int oddRays(const Point& p) const {
+    int odd = 0;
+    for (const Kernel::Vector_3& d : directions_)
+      odd += static_cast<int>(tree_.number_of_intersected_primitives(Kernel::Ray_3(p, d)) % 2);
+    return odd;
+  }
+  // Stops as soon as one side has a majority (4 rays, 5.5 on average instead of 7).
+  bool inside(const Point& p) const {
+    int odd = 0, even = 0;
+    for (const Kernel::Vector_3& d : directions_) {
+      if (tree_.number_of_intersected_primitives(Kernel::Ray_3(p, d)) % 2 == 1) {
+        if (2 * ++odd > kRays) return true;
+      } else if (2 * ++even > kRays) {
+        return false;
+      }
+    }
+    return false;
+  }
+  double distance(const Point& p) const { return std::sqrt(tree_.squared_distance(p)); }
+  CGAL::Bbox_3 bbox() const { return tree_.bbox(); }
+
+ private:
+  std::vector<Triangle> triangles_;
+  TriangleTree tree_;
+  std::array<Kernel::Vector_3, kRays> directions_;
+};
+
+// The volume the inside test encloses, by sampling a grid of cell centres (about `samples` along
+// the longest side of the bounding box), and how much of it was a close call: the samples whose
+// vote was won by one ray (4 of 7 either way) against the samples called inside. A ray that
+// leaves through a small hole loses 6 to 1; inside an open bowl the votes split.
+struct InsideVolume {
+  double volume = 0, closeVotes = 0;
+};
+
+InsideVolume sampleInsideVolume(const RayVoteInsideTest& test, int samples) {
+  const CGAL::Bbox_3 box = test.bbox();
+  const double h =
+      std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()}) /
+      samples;
+  const auto count = [h](double lo, double hi) {
+    return std::max(1, static_cast<int>(std::ceil((hi - lo) / h)));
+  };
+  const int nx = count(box.xmin(), box.xmax()), ny = count(box.ymin(), box.ymax()),
+            nz = count(box.zmin(), box.zmax());
+  // Integer counts per slab, summed in order: the same result on any number of threads.
+  std::vector<long> insideOf(static_cast<std::size_t>(nx)), splitOf(static_cast<std::size_t>(nx));
+  tbb::parallel_for(0, nx, [&](int i) {
+    long& inside = insideOf[static_cast<std::size_t>(i)];
+    long& split = splitOf[static_cast<std::size_t>(i)];
+    for (int j = 0; j < ny; ++j) {
+      for (int k = 0; k < nz; ++k) {
+        const int odd = test.oddRays(Point(box.xmin() + (i + 0.5) * h, box.ymin() + (j + 0.5) * h,
+                                           box.zmin() + (k + 0.5) * h));
+        if (2 * odd > RayVoteInsideTest::kRays) ++inside;
+        if (std::abs(2 * odd - RayVoteInsideTest::kRays) == 1) ++split;
+      }
+    }
+  });
+  const long inside = std::accumulate(insideOf.begin(), insideOf.end(), 0L);
+  const long split = std::accumulate(splitOf.begin(), splitOf.end(), 0L);
+  return {static_cast<double>(inside) * h * h * h,
+          inside > 0 ? static_cast<double>(split) / static_cast<double>(inside) : 1.0};
+}
+
+// The tets of the largest face-connected component, nodes renumbered; `dropped` counts the
+// other components (debris of the soup meshed as separate pieces).
+TetMesh keepLargestTetComponent(const TetMesh& mesh, int& dropped) {
+  const Eigen::Index nt = mesh.numTets();
+  std::map<std::array<int, 3>, int> faceOwner;
+  std::vector<int> parent(static_cast<std::size_t>(nt));
+  for (Eigen::Index t = 0; t < nt; ++t) parent[t] = static_cast<int>(t);
+  const auto root = [&parent](int t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  for (Eigen::Index t = 0; t < nt; ++t) {
+    for (int f = 0; f < 4; ++f) {
+      std::array<int, 3> face{};
+      for (int c = 0, k = 0; c < 4; ++c)
+        if (c != f) face[k++] = mesh.T(t, c);
+      std::sort(face.begin(), face.end());
+      auto [it, inserted] = faceOwner.emplace(face, static_cast<int>(t));
+      if (!inserted) parent[root(it->second)] = root(static_cast<int>(t));
+    }
+  }
+  std::map<int, int> sizes;
+  for (Eigen::Index t = 0; t < nt; ++t) ++sizes[root(static_cast<int>(t))];
+  dropped = static_cast<int>(sizes.size()) - 1;
+  if (dropped <= 0) return mesh;
+  const int keep = std::max_element(sizes.begin(), sizes.end(), [](const auto& a, const auto& b) {
+                     return a.second < b.second;
+                   })->first;
+  std::vector<int> node(static_cast<std::size_t>(mesh.numNodes()), -1);
+  std::vector<Eigen::Vector4i> tets;
+  int next = 0;
+  for (Eigen::Index t = 0; t < nt; ++t) {
+    if (root(static_cast<int>(t)) != keep) continue;
+    Eigen::Vector4i tet;
+    for (int c = 0; c < 4; ++c) {
+      int& n = node[static_cast<std::size_t>(mesh.T(t, c))];
+      if (n < 0) n = next++;
+      tet(c) = n;
+    }
+    tets.push_back(tet);
+  }
+  TetMesh out;
+  out.V.resize(next, 3);
+  for (Eigen::Index n = 0; n < mesh.numNodes(); ++n)
+    if (node[n] >= 0) out.V.row(node[n]) = mesh.V.row(n);
+  out.T.resize(static_cast<Eigen::Index>(tets.size()), 4);
+  for (std::size_t t = 0; t < tets.size(); ++t) out.T.row(static_cast<Eigen::Index>(t)) = tets[t];
+  out.region = Eigen::VectorXi::Zero(out.T.rows());
+  return out;
+}
+
+// Runs Mesh_3 on `domain` with a cell size guessed from `volume` (m^3), corrected up to
+// options.maxAttempts times towards options.targetNodes; keeps the closest run in result.mesh.
+template <class D>
+void meshToTargetNodes(const D& domain, double volume, const SurfaceMeshingOptions& options,
+                       const std::string& source, SurfaceMeshingResult& result) {
+  SurfaceMeshingReport& report = result.report;
+  // A Delaunay mesh of size h holds about 1.5 V / h^3 nodes (about 5.5 regular tets of volume
+  // h^3 / 8.5 per node). Surface nodes grow only like h^-2, so corrections use the exponent 1/2.5.
+  double cellSize = std::cbrt(1.5 * volume / options.targetNodes);
+  double bestError = std::numeric_limits<double>::infinity();
+  for (int attempt = 0; attempt < std::max(1, options.maxAttempts); ++attempt) {
+    TetMesh mesh = runMesh3(domain, cellSize, options);
+    ++report.attempts;
+    const double ratio = static_cast<double>(mesh.numNodes()) / options.targetNodes;
+    const double error = std::abs(ratio - 1.0);
+    if (mesh.numTets() > 0 && error < bestError) {
+      bestError = error;
+      result.mesh = std::move(mesh);
+      report.cellSize = cellSize;
+    }
+    if (error <= options.nodeTolerance || ratio <= 0) break;
+    cellSize *= std::pow(ratio, 1.0 / 2.5);
+  }
+  if (result.mesh.numTets() == 0) throw InputError(source + ": Mesh_3 produced no tets");
+}
+
+// A Mesh_3 function of the inside test: negative inside, as Labeled_mesh_domain_3 expects.
+struct RayVoteFunction {
+  const RayVoteInsideTest* test;
+  double operator()(const Point& p) const { return test->inside(p) ? -1.0 : 1.0; }
+};
+
+constexpr double kVolumeTolerance = 0.05;  // mesh volume against the volume it should enclose
+constexpr int kVolumeSamples = 48;         // grid samples along the longest side
+constexpr double kMaxCloseVotes = 0.05;
+
+// The route for a soup the repair could not close (or whose repaired surface folds onto itself):
+// Mesh_3 on the ray-vote inside test of the soup itself. `why` is the repair's problem, kept in
+// the report and in the error when this route fails too.
+void meshFromRayVotes(const std::vector<Point>& points, const std::vector<Polygon>& polygons,
+                      const SurfaceMeshingOptions& options, const std::string& source,
+                      const std::string& why, SurfaceMeshingResult& result) {
+  SurfaceMeshingReport& report = result.report;
+  std::vector<Triangle> triangles;
+  triangles.reserve(polygons.size());
+  for (const Polygon& p : polygons) {
+    if (p.size() == 3) triangles.emplace_back(points[p[0]], points[p[1]], points[p[2]]);
+  }
+  if (triangles.empty()) throw InputError(fmt::format("{}: {}", source, why));
+  const RayVoteInsideTest test(std::move(triangles));
+  const InsideVolume inside = sampleInsideVolume(test, kVolumeSamples);
+  report.closeVotes = inside.closeVotes;
+  if (!(inside.volume > 0) || inside.closeVotes > kMaxCloseVotes) {
+    throw InputError(fmt::format(
+        "{}: {}; nor does it enclose a clear inside (votes 4 to 3 at {:.0f} % of the inside, "
+        "limit {:.0f} %)",
+        source, why, 100 * inside.closeVotes, 100 * kMaxCloseVotes));
+  }
+  report.insideTestDomain = true;
+  report.repairProblem = why;
+  report.flippedFaces = report.holesFilled = report.genus = report.selfIntersections = 0;
+  report.components = 1;
+  report.surfaceVolume = inside.volume;
+
+  namespace params = CGAL::parameters;
+  const CGAL::Bbox_3 box = test.bbox();
+  const Point centre((box.xmin() + box.xmax()) / 2, (box.ymin() + box.ymax()) / 2,
+                     (box.zmin() + box.zmax()) / 2);
+  const double radius = 0.55 * std::sqrt(CGAL::square(box.xmax() - box.xmin()) +
+                                         CGAL::square(box.ymax() - box.ymin()) +
+                                         CGAL::square(box.zmax() - box.zmin()));
+  CGAL::Random rng(0);
+  const ImplicitDomain domain = ImplicitDomain::create_implicit_mesh_domain(
+      RayVoteFunction{&test}, Kernel::Sphere_3(centre, radius * radius),
+      params::relative_error_bound = 1e-5, params::p_rng = &rng);
+  meshToTargetNodes(domain, inside.volume, options, source, result);
+  int dropped = 0;
+  result.mesh = keepLargestTetComponent(result.mesh, dropped);
+  report.components = 1 + dropped;
+
+  const BoundarySurface boundary = extractBoundary(result.mesh);
+  result.repaired = toTriMesh(result.mesh, boundary);
+  report.boundaryDeviation = 0;
+  for (int n : boundary.nodes) {
+    const auto v = result.mesh.V.row(n);
+    report.boundaryDeviation =
+        std::max(report.boundaryDeviation, test.distance(Point(v(0), v(1), v(2))));
+  }
 }
 
 }  // namespace
@@ -232,31 +478,37 @@ SurfaceMeshingResult meshSurface(const TriMesh& surface, const SurfaceMeshingOpt
       }
     }
   }
-  const Surface repaired =
-      repairSurface(surface, options.scale, options.maxHoleEdges, source, report);
-  result.repaired = toTriMesh(repaired);
-  if (!(report.surfaceVolume > 0)) {
-    throw InputError(fmt::format("{}: the repaired surface encloses no volume", source));
-  }
-
-  // A Delaunay mesh of size h holds about 1.5 V / h^3 nodes (about 5.5 regular tets of volume
-  // h^3 / 8.5 per node). Surface nodes grow only like h^-2, so corrections use the exponent 1/2.5.
-  double cellSize = std::cbrt(1.5 * report.surfaceVolume / options.targetNodes);
-  double bestError = std::numeric_limits<double>::infinity();
-  for (int attempt = 0; attempt < std::max(1, options.maxAttempts); ++attempt) {
-    TetMesh mesh = runMesh3(repaired, cellSize, options);
-    ++report.attempts;
-    const double ratio = static_cast<double>(mesh.numNodes()) / options.targetNodes;
-    const double error = std::abs(ratio - 1.0);
-    if (mesh.numTets() > 0 && error < bestError) {
-      bestError = error;
-      result.mesh = std::move(mesh);
-      report.cellSize = cellSize;
+  // The soup as the rays see it: duplicates merged, degenerate faces dropped, no orientation.
+  std::vector<Point> soupPoints;
+  std::vector<Polygon> soupPolygons;
+  std::string problem;
+  try {
+    const Surface repaired = repairSurface(surface, options.scale, options.maxHoleEdges, source,
+                                           report, soupPoints, soupPolygons);
+    if (!(report.surfaceVolume > 0))
+      throw InputError(source + ": the repaired surface encloses no volume");
+    result.repaired = toTriMesh(repaired);
+    CGAL::Random rng(0);
+    const Domain domain(repaired, &rng);
+    meshToTargetNodes(domain, report.surfaceVolume, options, source, result);
+    const double meshVolume = measureQuality(result.mesh).totalVolume;
+    if (std::abs(meshVolume / report.surfaceVolume - 1) > kVolumeTolerance) {
+      // Hole fills along an orientation seam fold the repaired surface onto itself: its signed
+      // volume is no longer the organ's, and the mesh of it is not the organ either.
+      problem = fmt::format(
+          "the repaired surface encloses {:.4g} m^3 but its mesh {:.4g} m^3 ({} self-intersecting "
+          "face pairs)",
+          report.surfaceVolume, meshVolume, report.selfIntersections);
     }
-    if (error <= options.nodeTolerance || ratio <= 0) break;
-    cellSize *= std::pow(ratio, 1.0 / 2.5);
+  } catch (const InputError& e) {
+    problem = e.what();
+    if (problem.rfind(source + ": ", 0) == 0) problem.erase(0, source.size() + 2);
   }
-  if (result.mesh.numTets() == 0) throw InputError(source + ": Mesh_3 produced no tets");
+  if (!problem.empty()) {
+    report.attempts = 0;
+    result.mesh = TetMesh{};
+    meshFromRayVotes(soupPoints, soupPolygons, options, source, problem, result);
+  }
   validateTetMesh(result.mesh, source);
   const MeshQuality quality = measureQuality(result.mesh);
   report.outputNodes = static_cast<int>(quality.numNodes);
@@ -271,6 +523,12 @@ namespace {
 
 std::string describeRepairs(const SurfaceMeshingReport& r) {
   std::vector<std::string> parts;
+  if (r.insideTestDomain) {
+    parts.push_back(fmt::format(
+        "meshed from the ray-vote inside test ({}; votes 4 to 3 at {:.1f} % of the inside; "
+        "boundary within {:.2f} mm of the input)",
+        r.repairProblem, 100 * r.closeVotes, 1e3 * r.boundaryDeviation));
+  }
   if (r.mergedVertices)
     parts.push_back(fmt::format("{} duplicate vertices merged", r.mergedVertices));
   if (r.removedFaces)

@@ -40,6 +40,17 @@ struct SurfaceMeshingReport {
   double meshVolume = 0;  // sum of tet volumes, m^3
   double minDihedralDeg = 0;
   double seconds = 0;  // wall time of repair and meshing
+  // When the repaired surface was not usable (a border loop too large to fill, a hole that
+  // cannot be filled, no enclosed volume, or a mesh volume more than 5 % off the surface's, as
+  // when hole fills along an orientation seam fold it onto itself), the input soup is meshed from
+  // a ray-vote inside test instead (odd crossings along most of 7 rays: no orientation needed,
+  // small holes outvoted). Then surfaceVolume is the volume that test encloses (sampled on a
+  // grid), `repaired` the mesh's boundary, and components counts the tet pieces before the
+  // largest was kept.
+  bool insideTestDomain = false;
+  std::string repairProblem;     // why the repaired surface was not meshed; empty otherwise
+  double closeVotes = 0;         // samples won by one ray (4 to 3) per sample called inside
+  double boundaryDeviation = 0;  // largest distance of the mesh's boundary nodes to the input, m
 };
 
 struct SurfaceMeshingResult {
@@ -48,11 +59,12 @@ struct SurfaceMeshingResult {
   SurfaceMeshingReport report;
 };
 
-// Repairs `surface` (coordinates multiplied by options.scale) and tetrahedralises it. `source`
-// names the input in error messages. Deterministic (unless options.exude): the same input gives
-// the same mesh. Throws
-// InputError, e.g. "LiTS-3.obj: a border loop of 412 edges is too large to fill (limit 200)", when
-// the surface cannot be made closed or meshing yields no tets.
+// Repairs `surface` (coordinates multiplied by options.scale) and tetrahedralises it; a surface
+// the repair cannot close is meshed from its ray-vote inside test (see SurfaceMeshingReport).
+// `source` names the input in error messages. Deterministic (unless options.exude): the same input
+// gives the same mesh. Throws InputError, e.g. "half.obj: a border loop of 412 edges is too large
+// to fill (limit 200); nor does it enclose a clear inside (votes 4 to 3 at 31 % of the inside,
+// limit 5 %)", when neither route gives a volume, or meshing yields no tets.
 SurfaceMeshingResult meshSurface(const TriMesh& surface, const SurfaceMeshingOptions& options,
                                  const std::string& source = "surface");
 
