@@ -28,14 +28,15 @@ struct CommandOptions {
 // Which shared options each command has: --resume where a run can continue, -q where a progress
 // bar is drawn, --threads where work runs in parallel (docs/architecture.md).
 const std::vector<CommandOptions> kCommands = {
-    {"simulate", true, true, true, false},         {"assimilate", true, true, true, true},
-    {"validate", true, false, true, false},        {"mesh info", false, false, false, false},
-    {"atlas distance", false, false, false, true}, {"atlas register", true, false, false, true},
-    {"atlas build", true, false, false, true},     {"atlas transfer", true, false, false, true},
-    {"atlas loo", true, false, false, true},       {"liver prepare", true, false, false, true},
-    {"liver run", true, true, true, true},         {"liver tracked", true, true, true, true},
-    {"track", true, false, false, false},          {"register", true, false, false, false},
-    {"ligament fit", true, false, false, false},   {"ligament springs", true, false, false, false},
+    {"simulate", true, true, true, false},           {"assimilate", true, true, true, true},
+    {"validate", true, false, true, false},          {"mesh info", false, false, false, false},
+    {"mesh tetra", true, false, false, false},       {"atlas distance", false, false, false, true},
+    {"atlas register", true, false, false, true},    {"atlas build", true, false, false, true},
+    {"atlas transfer", true, false, false, true},    {"atlas loo", true, false, false, true},
+    {"liver prepare", true, false, false, true},     {"liver run", true, true, true, true},
+    {"liver tracked", true, true, true, true},       {"track", true, false, false, false},
+    {"register", true, false, false, false},         {"ligament fit", true, false, false, false},
+    {"ligament springs", true, false, false, false},
 };
 
 using test::contains;

@@ -1,8 +1,11 @@
 // The bcassim executable as a user meets it: one-line errors with file, line and key and exit
-// code 2 for bad scenes, a successful run, mesh info and --version.
+// code 2 for bad scenes, a successful run, mesh info and tetra, and --version.
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "bcassim/io/MeshWriter.h"
+#include "bcassim/io/SurfaceReader.h"
 #include "bcassim/mesh/MeshGenerators.h"
 #include "support/TestFiles.h"
 
@@ -130,6 +133,51 @@ TEST(Cli, MeshInfoOnAMissingFile) {
   const test::CliResult r = runBcassim(dir, "mesh info none.vtk");
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_EQ(r.err, "bcassim: error: none.vtk: cannot open file\n");
+}
+
+// A sphere of radius 40 mm with a cap cut off (a hole larger than --max-hole-edges) and, for
+// `open`, its upper half gone (a bowl), as a millimetre .obj in `dir`.
+void writeBrokenSphere(const std::filesystem::path& file, bool open) {
+  const TriMesh sphere = makeIcosphereSurface(40.0, 3);
+  std::vector<int> kept;
+  for (Eigen::Index f = 0; f < sphere.F.rows(); ++f) {
+    double z = 0;
+    for (int c = 0; c < 3; ++c) z += sphere.V(sphere.F(f, c), 2) / 3;
+    if (z < (open ? 0.0 : 36.0)) kept.push_back(static_cast<int>(f));
+  }
+  TriMesh broken;
+  broken.V = sphere.V;
+  broken.F.resize(static_cast<Eigen::Index>(kept.size()), 3);
+  for (std::size_t i = 0; i < kept.size(); ++i)
+    broken.F.row(static_cast<Eigen::Index>(i)) = sphere.F.row(kept[i]);
+  writeSurface(file.string(), broken);
+}
+
+TEST(Cli, MeshTetraMeshesASurfaceWithALargeHole) {
+  const auto dir = freshDir();
+  writeBrokenSphere(dir / "ball.obj", false);
+  const test::CliResult r =
+      runBcassim(dir, "mesh tetra ball.obj --nodes 300 --max-hole-edges 8 --out m");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("repairs: meshed from the ray-vote inside test (a border loop of"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("wrote m/mesh.vtu and m/surface.vtp"), std::string::npos) << r.out;
+  const test::CliResult info = runBcassim(dir, "mesh info m/mesh.vtu");
+  EXPECT_EQ(info.exitCode, 0) << info.err;
+  EXPECT_NE(info.out.find("inverted tets: 0\n"), std::string::npos) << info.out;
+}
+
+TEST(Cli, MeshTetraRefusesAnOpenBowlInOneLine) {
+  const auto dir = freshDir();
+  writeBrokenSphere(dir / "bowl.obj", true);
+  const test::CliResult r = runBcassim(dir, "mesh tetra bowl.obj --max-hole-edges 8 --out m");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err.rfind("bcassim: error: bowl.obj: a border loop of ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("; nor does it enclose a clear inside (votes 4 to 3 at "), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "m" / "mesh.vtu"));
 }
 
 TEST(Cli, Version) {

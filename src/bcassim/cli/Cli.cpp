@@ -39,6 +39,7 @@ std::vector<std::unique_ptr<Command>> allCommands() {
   commands.push_back(makeServeCommand());
   commands.push_back(makeReplayCommand());
   commands.push_back(makeMeshInfoCommand());
+  commands.push_back(makeMeshTetraCommand());
   commands.push_back(makeTrackCommand());
   commands.push_back(makeRegisterCommand());
   commands.push_back(makeAtlasDistanceCommand());

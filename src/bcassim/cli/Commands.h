@@ -14,6 +14,7 @@ std::unique_ptr<Command> makeAssimilateCommand();
 std::unique_ptr<Command> makeValidateCommand();
 // MeshInfoCommand.cpp
 std::unique_ptr<Command> makeMeshInfoCommand();
+std::unique_ptr<Command> makeMeshTetraCommand();
 // LiverCommands.cpp
 std::unique_ptr<Command> makeLiverPrepareCommand();
 std::unique_ptr<Command> makeLiverRunCommand();

@@ -519,9 +519,7 @@ SurfaceMeshingResult meshSurface(const TriMesh& surface, const SurfaceMeshingOpt
   return result;
 }
 
-namespace {
-
-std::string describeRepairs(const SurfaceMeshingReport& r) {
+std::string describeMeshing(const SurfaceMeshingReport& r) {
   std::vector<std::string> parts;
   if (r.insideTestDomain) {
     parts.push_back(fmt::format(
@@ -545,6 +543,8 @@ std::string describeRepairs(const SurfaceMeshingReport& r) {
   return out;
 }
 
+namespace {
+
 LiverMeshingOutcome meshOne(const std::filesystem::path& path, const std::string& name,
                             SurfaceMeshingOptions options, bool fitWidth) {
   LiverMeshingOutcome outcome;
@@ -558,7 +558,7 @@ LiverMeshingOutcome meshOne(const std::filesystem::path& path, const std::string
     }
     const SurfaceMeshingResult result = meshSurface(surface, options, name);
     outcome.report = result.report;
-    outcome.problem = describeRepairs(result.report);
+    outcome.problem = describeMeshing(result.report);
     const double ratio = static_cast<double>(result.report.outputNodes) / options.targetNodes;
     // The mesh volume must match the surface's: a surface cut open by the orientation repair or
     // folded onto itself encloses a different volume than the organ, yet still meshes.

@@ -68,6 +68,10 @@ struct SurfaceMeshingResult {
 SurfaceMeshingResult meshSurface(const TriMesh& surface, const SurfaceMeshingOptions& options,
                                  const std::string& source = "surface");
 
+// What the repair and meshing did, in words ("meshed from the ray-vote inside test (...); 3
+// holes filled; ..."); empty for an input that needed nothing.
+std::string describeMeshing(const SurfaceMeshingReport& report);
+
 // One line of the batch report: the file, its outcome, and the report or the reason it failed.
 struct LiverMeshingOutcome {
   std::string file;     // path relative to the data directory
