@@ -7,7 +7,8 @@
 #   examples/liver/atlas_mode_all_livers.sh BUILD_DIR ATLAS_DIR [OUT_DIR]
 # ATLAS_DIR: an atlas of `bcassim atlas build` (e.g. out/liver-atlas-mode/atlas of
 # run_atlas_mode.sh); livers it was built from are marked "in atlas" (their distance is not a
-# leave-one-out one). Resumable: a liver whose log is complete is skipped.
+# leave-one-out one). ATLAS_DIR "-": annotation mode (springs on each liver's .eseg), the same
+# meshes. Resumable: a liver whose log is complete is skipped.
 set -uo pipefail
 BUILD=${1:?build folder}
 ATLAS=${2:?atlas folder}
@@ -19,7 +20,9 @@ for obj in "$DATA"/livers/*.obj; do
   liver=$(basename "$obj" .obj)
   log="$OUT/$liver.log"
   if ! grep -q '^next:' "$log" 2> /dev/null; then
-    "$BUILD/bcassim" liver prepare "$obj" --atlas "$ATLAS" --out "$OUT/$liver" \
+    mode=(--atlas "$ATLAS")
+    [ "$ATLAS" = - ] && mode=()
+    "$BUILD/bcassim" liver prepare "$obj" "${mode[@]}" --out "$OUT/$liver" \
       --fine-nodes 2500 > "$log" 2>&1 || true
   fi
   if grep -q '^next:' "$log"; then

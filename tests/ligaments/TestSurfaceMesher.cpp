@@ -181,7 +181,9 @@ TEST(SurfaceMesher, SeamedCtLiverIsMeshedFromTheRayVotes) {
   EXPECT_LT(report.closeVotes, 0.01);
   EXPECT_NEAR(report.meshVolume, report.surfaceVolume, 0.05 * report.surfaceVolume);
   EXPECT_NEAR(result.mesh.numNodes(), 800, 0.15 * 800);
-  EXPECT_LT(report.boundaryDeviation, 1e-3);  // m
+  // Within Mesh_3's facet distance (a tenth of the cell size, from facet circumcentres; face
+  // centroids may stand a little farther off).
+  EXPECT_LT(report.boundaryDeviation, 0.25 * report.cellSize);
   EXPECT_EQ(measureQuality(result.mesh).numInverted, 0);
   // The mesh spans the CT surface's extent (no lobe lost).
   const Eigen::RowVector3d extent = liver.V.colwise().maxCoeff() - liver.V.colwise().minCoeff();

@@ -32,8 +32,10 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <unordered_map>
+#include <vector>
 
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
@@ -449,11 +451,18 @@ void meshFromRayVotes(const std::vector<Point>& points, const std::vector<Polygo
 
   const BoundarySurface boundary = extractBoundary(result.mesh);
   result.repaired = toTriMesh(result.mesh, boundary);
+  // Mesh_3 puts the boundary nodes on the surface by bisection; the faces between them stand off
+  // by up to the facet distance, so their centroids are measured too.
   report.boundaryDeviation = 0;
-  for (int n : boundary.nodes) {
-    const auto v = result.mesh.V.row(n);
+  const auto deviate = [&](const Vec3& p) {
     report.boundaryDeviation =
-        std::max(report.boundaryDeviation, test.distance(Point(v(0), v(1), v(2))));
+        std::max(report.boundaryDeviation, test.distance(Point(p.x(), p.y(), p.z())));
+  };
+  for (int n : boundary.nodes) deviate(result.mesh.V.row(n).transpose());
+  for (Eigen::Index f = 0; f < boundary.F.rows(); ++f) {
+    Vec3 centroid = Vec3::Zero();
+    for (int c = 0; c < 3; ++c) centroid += result.mesh.V.row(boundary.F(f, c)).transpose() / 3;
+    deviate(centroid);
   }
 }
 

@@ -50,7 +50,8 @@ struct SurfaceMeshingReport {
   bool insideTestDomain = false;
   std::string repairProblem;     // why the repaired surface was not meshed; empty otherwise
   double closeVotes = 0;         // samples won by one ray (4 to 3) per sample called inside
-  double boundaryDeviation = 0;  // largest distance of the mesh's boundary nodes to the input, m
+  double boundaryDeviation = 0;  // largest distance of the mesh's boundary nodes and face
+                                 // centroids to the input surface, m
 };
 
 struct SurfaceMeshingResult {
