@@ -30,10 +30,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <numbers>
-#include <numeric>
 #include <unordered_map>
 #include <vector>
 
@@ -259,8 +259,23 @@ class RayVoteInsideTest {
       odd += static_cast<int>(tree_.number_of_intersected_primitives(Kernel::Ray_3(p, d)) % 2);
     return odd;
   }
-  // Stops as soon as one side has a majority (4 rays, 5.5 on average instead of 7).
+  // Stops as soon as one side has a majority (4 rays, 5.5 on average instead of 7). After
+  // sampleGrid, a point in the empty ball around its cell's sample (no triangle nearer the sample)
+  // takes the sample's vote when that was unanimous: nothing separates the two, and Mesh_3's
+  // queries deep inside or far outside cost no ray at all.
   bool inside(const Point& p) const {
+    if (!votes_.empty()) {
+      const auto slab = [this](double x, double lo, int n) {
+        return std::clamp(static_cast<int>(std::floor((x - lo) / h_)), 0, n - 1);
+      };
+      const int i = slab(p.x(), origin_.x(), nx_), j = slab(p.y(), origin_.y(), ny_),
+                k = slab(p.z(), origin_.z(), nz_);
+      const std::size_t cell = (static_cast<std::size_t>(i) * ny_ + j) * nz_ + k;
+      const int vote = votes_[cell];
+      if ((vote == 0 || vote == kRays) &&
+          CGAL::squared_distance(p, samplePoint(i, j, k)) < clearance_[cell])
+        return vote == kRays;
+    }
     int odd = 0, even = 0;
     for (const Kernel::Vector_3& d : directions_) {
       if (tree_.number_of_intersected_primitives(Kernel::Ray_3(p, d)) % 2 == 1) {
@@ -274,48 +289,94 @@ class RayVoteInsideTest {
   double distance(const Point& p) const { return std::sqrt(tree_.squared_distance(p)); }
   CGAL::Bbox_3 bbox() const { return tree_.bbox(); }
 
+  // Where the segment [a, b] crosses the soup, ordered from a (a face lying in the segment's
+  // line counts by its middle).
+  std::vector<Point> crossings(const Point& a, const Point& b) const {
+    using Hit =
+        boost::optional<TriangleTree::Intersection_and_primitive_id<Kernel::Segment_3>::Type>;
+    std::vector<Hit> hits;
+    tree_.all_intersections(Kernel::Segment_3(a, b), std::back_inserter(hits));
+    std::vector<std::pair<double, Point>> along;
+    const Kernel::Vector_3 ab = b - a;
+    for (const Hit& hit : hits) {
+      if (!hit) continue;
+      Point p;
+      if (const Point* q = boost::get<Point>(&hit->first)) {
+        p = *q;
+      } else if (const auto* seg = boost::get<Kernel::Segment_3>(&hit->first)) {
+        p = CGAL::midpoint(seg->source(), seg->target());
+      } else {
+        continue;
+      }
+      along.emplace_back((p - a) * ab, p);
+    }
+    std::sort(along.begin(), along.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::vector<Point> points;
+    points.reserve(along.size());
+    for (const auto& [t, p] : along) points.push_back(p);
+    return points;
+  }
+
+  // Votes all cell centres of a grid over the bounding box, about `samples` along its longest
+  // side, and keeps them for inside(). Returns the volume called inside and the share of close
+  // calls (see InsideVolume).
+  struct InsideVolume {
+    double volume = 0, closeVotes = 0;
+  };
+  InsideVolume sampleGrid(int samples);
+
  private:
+  Point samplePoint(int i, int j, int k) const {
+    return {origin_.x() + (i + 0.5) * h_, origin_.y() + (j + 0.5) * h_,
+            origin_.z() + (k + 0.5) * h_};
+  }
+
   std::vector<Triangle> triangles_;
   TriangleTree tree_;
   std::array<Kernel::Vector_3, kRays> directions_;
+  std::vector<std::uint8_t> votes_;  // odd rays per grid sample, i-major
+  std::vector<double> clearance_;    // squared distance from each sample to the soup
+  Point origin_;
+  double h_ = 0;
+  int nx_ = 0, ny_ = 0, nz_ = 0;
 };
 
-// The volume the inside test encloses, by sampling a grid of cell centres (about `samples` along
-// the longest side of the bounding box), and how much of it was a close call: the samples whose
-// vote was won by one ray (4 of 7 either way) against the samples called inside. A ray that
-// leaves through a small hole loses 6 to 1; inside an open bowl the votes split.
-struct InsideVolume {
-  double volume = 0, closeVotes = 0;
-};
-
-InsideVolume sampleInsideVolume(const RayVoteInsideTest& test, int samples) {
-  const CGAL::Bbox_3 box = test.bbox();
-  const double h =
-      std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()}) /
-      samples;
-  const auto count = [h](double lo, double hi) {
-    return std::max(1, static_cast<int>(std::ceil((hi - lo) / h)));
+// A closed surface with a few defects gives near-unanimous votes (a ray that leaves through a
+// small hole loses 6 to 1); inside an open bowl the votes split. So the close calls (won by one
+// ray, 4 to 3 either way) per sample called inside say whether the soup has a clear inside.
+RayVoteInsideTest::InsideVolume RayVoteInsideTest::sampleGrid(int samples) {
+  const CGAL::Bbox_3 box = bbox();
+  h_ = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()}) /
+       samples;
+  const auto count = [this](double lo, double hi) {
+    return std::max(1, static_cast<int>(std::ceil((hi - lo) / h_)));
   };
-  const int nx = count(box.xmin(), box.xmax()), ny = count(box.ymin(), box.ymax()),
-            nz = count(box.zmin(), box.zmax());
-  // Integer counts per slab, summed in order: the same result on any number of threads.
-  std::vector<long> insideOf(static_cast<std::size_t>(nx)), splitOf(static_cast<std::size_t>(nx));
-  tbb::parallel_for(0, nx, [&](int i) {
-    long& inside = insideOf[static_cast<std::size_t>(i)];
-    long& split = splitOf[static_cast<std::size_t>(i)];
-    for (int j = 0; j < ny; ++j) {
-      for (int k = 0; k < nz; ++k) {
-        const int odd = test.oddRays(Point(box.xmin() + (i + 0.5) * h, box.ymin() + (j + 0.5) * h,
-                                           box.zmin() + (k + 0.5) * h));
-        if (2 * odd > RayVoteInsideTest::kRays) ++inside;
-        if (std::abs(2 * odd - RayVoteInsideTest::kRays) == 1) ++split;
+  nx_ = count(box.xmin(), box.xmax());
+  ny_ = count(box.ymin(), box.ymax());
+  nz_ = count(box.zmin(), box.zmax());
+  origin_ = Point(box.xmin(), box.ymin(), box.zmin());
+  std::vector<std::uint8_t> votes(static_cast<std::size_t>(nx_) * ny_ * nz_);
+  std::vector<double> clearance(votes.size());
+  tbb::parallel_for(0, nx_, [&](int i) {
+    for (int j = 0; j < ny_; ++j) {
+      for (int k = 0; k < nz_; ++k) {
+        const std::size_t cell = (static_cast<std::size_t>(i) * ny_ + j) * nz_ + k;
+        const Point sample = samplePoint(i, j, k);
+        votes[cell] = static_cast<std::uint8_t>(oddRays(sample));
+        clearance[cell] = tree_.squared_distance(sample);
       }
     }
   });
-  const long inside = std::accumulate(insideOf.begin(), insideOf.end(), 0L);
-  const long split = std::accumulate(splitOf.begin(), splitOf.end(), 0L);
-  return {static_cast<double>(inside) * h * h * h,
-          inside > 0 ? static_cast<double>(split) / static_cast<double>(inside) : 1.0};
+  clearance_ = std::move(clearance);
+  long inside = 0, close = 0;
+  for (const std::uint8_t odd : votes) {
+    if (2 * odd > kRays) ++inside;
+    if (std::abs(2 * odd - kRays) == 1) ++close;
+  }
+  votes_ = std::move(votes);
+  return {static_cast<double>(inside) * h_ * h_ * h_,
+          inside > 0 ? static_cast<double>(close) / static_cast<double>(inside) : 1.0};
 }
 
 // The tets of the largest face-connected component, nodes renumbered; `dropped` counts the
@@ -401,6 +462,51 @@ struct RayVoteFunction {
   double operator()(const Point& p) const { return test->inside(p) ? -1.0 : 1.0; }
 };
 
+// Mesh_3's domain of the ray-vote test whose surface points come from the soup itself: where the
+// ends of a segment Mesh_3 probes are voted apart, the point returned is the first of the
+// segment's crossings with the triangles at which the vote changes (one AABB query and a vote on
+// each side), not the end of 20 halvings of the segment, each a vote of 4-7 rays. A segment whose
+// vote changes away from any triangle (over a hole) is halved as before.
+class RayVoteDomain : public ImplicitDomain {
+ public:
+  RayVoteDomain(const ImplicitDomain& base, const RayVoteInsideTest* test)
+      : ImplicitDomain(base), test_(test) {}
+
+  struct Construct_intersection {
+    const RayVoteDomain* domain;
+    Intersection operator()(const Segment_3& s) const { return domain->intersect(s); }
+    Intersection operator()(const Ray_3& r) const {
+      return domain->ImplicitDomain::construct_intersection_object()(r);
+    }
+    Intersection operator()(const Line_3& l) const {
+      return domain->ImplicitDomain::construct_intersection_object()(l);
+    }
+  };
+  Construct_intersection construct_intersection_object() const { return {this}; }
+
+ private:
+  Intersection intersect(const Segment_3& s) const {
+    const bool sourceInside = test_->inside(s.source());
+    if (sourceInside == test_->inside(s.target())) return Intersection();
+    // The vote between consecutive crossings, from the source on: the first crossing it changes
+    // at. A vote that changes between crossings (near a hole) sends the segment to halving.
+    const std::vector<Point> points = test_->crossings(s.source(), s.target());
+    if (!points.empty() && test_->inside(CGAL::midpoint(s.source(), points[0])) == sourceInside) {
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        const Point after =
+            CGAL::midpoint(points[i], i + 1 < points.size() ? points[i + 1] : s.target());
+        if (test_->inside(after) != sourceInside) {
+          // Labels 0 (outside) and 1 (inside): the one surface patch there is.
+          return Intersection(points[i], index_from_surface_patch_index({0, 1}), 2);
+        }
+      }
+    }
+    return ImplicitDomain::construct_intersection_object()(s);
+  }
+
+  const RayVoteInsideTest* test_;
+};
+
 constexpr double kVolumeTolerance = 0.05;  // mesh volume against the volume it should enclose
 constexpr int kVolumeSamples = 48;         // grid samples along the longest side
 constexpr double kMaxCloseVotes = 0.05;
@@ -418,8 +524,8 @@ void meshFromRayVotes(const std::vector<Point>& points, const std::vector<Polygo
     if (p.size() == 3) triangles.emplace_back(points[p[0]], points[p[1]], points[p[2]]);
   }
   if (triangles.empty()) throw InputError(fmt::format("{}: {}", source, why));
-  const RayVoteInsideTest test(std::move(triangles));
-  const InsideVolume inside = sampleInsideVolume(test, kVolumeSamples);
+  RayVoteInsideTest test(std::move(triangles));
+  const RayVoteInsideTest::InsideVolume inside = test.sampleGrid(kVolumeSamples);
   report.closeVotes = inside.closeVotes;
   if (!(inside.volume > 0) || inside.closeVotes > kMaxCloseVotes) {
     throw InputError(fmt::format(
@@ -441,9 +547,10 @@ void meshFromRayVotes(const std::vector<Point>& points, const std::vector<Polygo
                                          CGAL::square(box.ymax() - box.ymin()) +
                                          CGAL::square(box.zmax() - box.zmin()));
   CGAL::Random rng(0);
-  const ImplicitDomain domain = ImplicitDomain::create_implicit_mesh_domain(
-      RayVoteFunction{&test}, Kernel::Sphere_3(centre, radius * radius),
-      params::relative_error_bound = 1e-5, params::p_rng = &rng);
+  const RayVoteDomain domain(ImplicitDomain::create_implicit_mesh_domain(
+                                 RayVoteFunction{&test}, Kernel::Sphere_3(centre, radius * radius),
+                                 params::relative_error_bound = 1e-5, params::p_rng = &rng),
+                             &test);
   meshToTargetNodes(domain, inside.volume, options, source, result);
   int dropped = 0;
   result.mesh = keepLargestTetComponent(result.mesh, dropped);
