@@ -89,6 +89,26 @@ TEST(SurfaceMesher, OpenBowlIsAnInputError) {
   }
 }
 
+// A flat sheet (two triangles) closes nothing, by either route.
+TEST(SurfaceMesher, FlatSheetIsAnInputError) {
+  TriMesh sheet;
+  sheet.V.resize(4, 3);
+  sheet.V << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+  sheet.F.resize(2, 3);
+  sheet.F << 0, 1, 2, 0, 2, 3;
+  SurfaceMeshingOptions options;
+  options.scale = 0.1;
+  options.maxHoleEdges = 2;
+  try {
+    meshSurface(sheet, options, "sheet.obj");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "sheet.obj: a border loop of 4 edges is too large to fill (limit 2); nor does it "
+              "enclose any volume (no point of a 48-point grid is inside by the rays' vote)");
+  }
+}
+
 // A hole larger than the repair fills, on a surface whose faces do not agree on their
 // orientation: a cap of faces removed (a hole of more than maxHoleEdges) and a band of faces
 // turned inward. The ray-vote route, which ignores orientation, still meshes the ball: its volume,

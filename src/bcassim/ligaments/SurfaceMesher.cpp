@@ -527,7 +527,13 @@ void meshFromRayVotes(const std::vector<Point>& points, const std::vector<Polygo
   RayVoteInsideTest test(std::move(triangles));
   const RayVoteInsideTest::InsideVolume inside = test.sampleGrid(kVolumeSamples);
   report.closeVotes = inside.closeVotes;
-  if (!(inside.volume > 0) || inside.closeVotes > kMaxCloseVotes) {
+  if (!(inside.volume > 0)) {
+    throw InputError(fmt::format(
+        "{}: {}; nor does it enclose any volume (no point of a {}-point grid is inside by the "
+        "rays' vote)",
+        source, why, kVolumeSamples));
+  }
+  if (inside.closeVotes > kMaxCloseVotes) {
     throw InputError(fmt::format(
         "{}: {}; nor does it enclose a clear inside (votes 4 to 3 at {:.0f} % of the inside, "
         "limit {:.0f} %)",

@@ -14,9 +14,10 @@ struct SurfaceMeshingOptions {
   int targetNodes = 2150;       // wanted node count (thesis §5.1: 2,150 estimation, ~14,300 truth)
   double nodeTolerance = 0.15;  // accept a mesh within +-15 % of targetNodes
   int maxAttempts = 3;          // meshing runs to land within the tolerance; the closest is kept
-  int maxHoleEdges = 200;       // border loops up to this many edges are filled; larger ones throw
-  double facetAngleDeg = 25;    // lower bound of surface triangle angles
-  double radiusEdgeRatio = 3;   // upper bound of tet circumradius / shortest edge
+  int maxHoleEdges = 200;  // border loops up to this many edges are filled; a larger one sends the
+                           // surface to the ray-vote route (SurfaceMeshingReport)
+  double facetAngleDeg = 25;   // lower bound of surface triangle angles
+  double radiusEdgeRatio = 3;  // upper bound of tet circumradius / shortest edge
   // Sliver exudation raises the minimum dihedral angle but its results vary from run to run
   // (observed: +-2 nodes on a 200-node sphere), so it is off for reproducible meshes.
   // Perturbation (time-bounded) is never used.
