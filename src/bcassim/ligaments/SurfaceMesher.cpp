@@ -430,10 +430,11 @@ TetMesh keepLargestTetComponent(const TetMesh& mesh, int& dropped) {
   return out;
 }
 
-// Runs Mesh_3 on `domain` with a cell size guessed from `volume` (m^3), corrected up to
-// options.maxAttempts times towards options.targetNodes; keeps the closest run in result.mesh.
-template <class D>
-void meshToTargetNodes(const D& domain, double volume, const SurfaceMeshingOptions& options,
+// Runs meshAt(cell size) (Mesh_3 on a domain) with a cell size guessed from `volume` (m^3),
+// corrected up to options.maxAttempts times towards options.targetNodes; keeps the closest run in
+// result.mesh.
+template <class MeshAt>
+void meshToTargetNodes(const MeshAt& meshAt, double volume, const SurfaceMeshingOptions& options,
                        const std::string& source, SurfaceMeshingResult& result) {
   SurfaceMeshingReport& report = result.report;
   // A Delaunay mesh of size h holds about 1.5 V / h^3 nodes (about 5.5 regular tets of volume
@@ -441,7 +442,7 @@ void meshToTargetNodes(const D& domain, double volume, const SurfaceMeshingOptio
   double cellSize = std::cbrt(1.5 * volume / options.targetNodes);
   double bestError = std::numeric_limits<double>::infinity();
   for (int attempt = 0; attempt < std::max(1, options.maxAttempts); ++attempt) {
-    TetMesh mesh = runMesh3(domain, cellSize, options);
+    TetMesh mesh = meshAt(cellSize);
     ++report.attempts;
     const double ratio = static_cast<double>(mesh.numNodes()) / options.targetNodes;
     const double error = std::abs(ratio - 1.0);
@@ -557,7 +558,9 @@ void meshFromRayVotes(const std::vector<Point>& points, const std::vector<Polygo
                                  RayVoteFunction{&test}, Kernel::Sphere_3(centre, radius * radius),
                                  params::relative_error_bound = 1e-5, params::p_rng = &rng),
                              &test);
-  meshToTargetNodes(domain, inside.volume, options, source, result);
+  // One random stream over the attempts (the figures of docs/liver-meshing.md were made so).
+  meshToTargetNodes([&](double h) { return runMesh3(domain, h, options); }, inside.volume, options,
+                    source, result);
   int dropped = 0;
   result.mesh = keepLargestTetComponent(result.mesh, dropped);
   report.components = 1 + dropped;
@@ -610,9 +613,14 @@ SurfaceMeshingResult meshSurface(const TriMesh& surface, const SurfaceMeshingOpt
     if (!(report.surfaceVolume > 0))
       throw InputError(source + ": the repaired surface encloses no volume");
     result.repaired = toTriMesh(repaired);
-    CGAL::Random rng(0);
-    const Domain domain(repaired, &rng);
-    meshToTargetNodes(domain, report.surfaceVolume, options, source, result);
+    // Each attempt starts its own random stream from the same seed, as route 1 always has: its
+    // meshes, and every liver figure made from them, stay the same.
+    const auto meshAt = [&](double h) {
+      CGAL::Random rng(0);
+      const Domain domain(repaired, &rng);
+      return runMesh3(domain, h, options);
+    };
+    meshToTargetNodes(meshAt, report.surfaceVolume, options, source, result);
     const double meshVolume = measureQuality(result.mesh).totalVolume;
     if (std::abs(meshVolume / report.surfaceVolume - 1) > kVolumeTolerance) {
       // Hole fills along an orientation seam fold the repaired surface onto itself: its signed
