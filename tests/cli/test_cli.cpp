@@ -180,6 +180,19 @@ TEST(Cli, MeshTetraRefusesAnOpenBowlInOneLine) {
   EXPECT_FALSE(std::filesystem::exists(dir / "m" / "mesh.vtu"));
 }
 
+TEST(Cli, MeshTetraRefusesANonPositiveNodeCountOrHoleLimitInOneLine) {
+  const auto dir = freshDir();
+  writeBrokenSphere(dir / "ball.obj", false);
+  for (const char* option : {"--nodes", "--max-hole-edges"}) {
+    SCOPED_TRACE(option);
+    const test::CliResult r =
+        runBcassim(dir, std::string("mesh tetra ball.obj --out m ") + option + " 0");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err, std::string("bcassim: error: ") + option +
+                         ": expected a number > 0, got '0' (see 'bcassim --help')\n");
+  }
+}
+
 TEST(Cli, Version) {
   const auto dir = freshDir();
   const test::CliResult r = runBcassim(dir, "--version");
