@@ -142,6 +142,18 @@ TEST(AssimilationCli, TangentOptionsNeedTheMeanTangent) {
   expectError(assimilate(dir, sectionWith("  tangent: mean\n  tangent_precision: half\n")),
               "scene.yaml:8: assimilation.tangent_precision: expected one of double, single, got "
               "'half'");
+  expectError(assimilate(dir, sectionWith("  tangent: mean\n  tangent_background_steps: 1\n")),
+              "scene.yaml:8: assimilation.tangent_background_steps: only for tangent_background: "
+              "true");
+  expectError(assimilate(dir, sectionWith("  tangent: mean\n  tangent_background: true\n"
+                                          "  tangent_refresh_every: 2\n"
+                                          "  tangent_background_steps: 3\n")),
+              "scene.yaml:10: assimilation.tangent_background_steps: 3 is more than "
+              "tangent_refresh_every (2): a build is adopted at the latest when the next one is "
+              "due");
+  expectError(assimilate(dir, sectionWith("  tangent: mean\n  tangent_background: true\n"
+                                          "  tangent_background_steps: 0\n")),
+              "scene.yaml:9: assimilation.tangent_background_steps: must be >= 1, got 0");
   expectError(assimilate(dir, sectionWith("  tangent: frozen\n")),
               "scene.yaml:7: assimilation.tangent: expected one of own, mean, got 'frozen'");
 }

@@ -92,7 +92,8 @@ TEST(MechanicalForecastModel, SharedFactorisationGivesTheDirectResult) {
 }
 
 // tangent: mean — every worker steps with the tangent worker 0 built at the analysed mean (with
-// the mean's parameters), synchronously at endStep or, in the background, one step later.
+// the mean's parameters): synchronously at endStep every N steps (N = tangentRefreshEvery), or in
+// the background, launched when due and adopted B steps later (B = tangentBackgroundSteps).
 TEST(MechanicalForecastModel, MeanTangentForecastsStepWithTheMeansTangent) {
   const MechanicalModel model = cylinderModel();
   const MechanicalState initial = model.restState();
@@ -104,39 +105,65 @@ TEST(MechanicalForecastModel, MeanTangentForecastsStepWithTheMeansTangent) {
   applyParameter(params[0], 8000.0, at8000);
   applyParameter(params[0], 9500.0, at9500);
 
-  for (bool background : {false, true}) {
+  struct Schedule {
+    bool background;
+    int every, steps;  // steps 0: the default (1 for dynamic steps)
+  };
+  constexpr int kSteps = 6;
+  for (const Schedule& sc : {Schedule{false, 1, 0}, Schedule{true, 1, 0}, Schedule{false, 2, 0},
+                             Schedule{true, 2, 1}, Schedule{true, 2, 2}, Schedule{true, 3, 2}}) {
+    const std::string name = "background " + std::to_string(sc.background) + " every " +
+                             std::to_string(sc.every) + " steps " + std::to_string(sc.steps);
     ForecastModelOptions o;
     o.meanTangent = true;
-    o.tangentInBackground = background;
+    o.tangentInBackground = sc.background;
+    o.tangentRefreshEvery = sc.every;
+    o.tangentBackgroundSteps = sc.steps;
+    const int adoptAfter = sc.background ? std::max(sc.steps, 1) : 0;
     auto shared = std::make_shared<SharedFactorization>();
     MechanicalForecastModel w0(at8000, euler, {}, params, initial, o, 0, shared);
     MechanicalForecastModel w1(at8000, euler, {}, params, initial, o, 1, shared);
     ASSERT_TRUE(shared->tangent);
     std::vector<MechanicalState> means{initial};  // analysed means, step by step
     Eigen::VectorXd state = w0.packState(initial), a, b, p;
-    for (int step = 1; step <= 4; ++step) {
+    for (int step = 1; step <= kSteps; ++step) {
       w0.forecast(state, E0, a, p);
       w1.forecast(state, E1, b, p);
-      // Expected: eq. 2.16 with E1's forces and the tangent of the mean (E0) of the previous
-      // step, or of the one before in the background.
-      const int lag = background ? std::max(step - 2, 0) : step - 1;
+      // Expected: eq. 2.16 with E1's forces and the tangent of the mean (E0) built at the last
+      // multiple of N whose tangent was adopted by the end of the previous step.
+      const int built = std::max(step - 1 - adoptAfter, 0) / sc.every * sc.every;
       MechanicalState s = means.back();
       ImplicitEuler direct(at9500, makeLinearSolver("cholmod"), euler);
-      direct.stepWithTangent(at9500, s, *FrozenTangent::build(at8000, means[lag], 0.01));
+      direct.stepWithTangent(at9500, s, *FrozenTangent::build(at8000, means[built], 0.01));
       const Eigen::Index n = s.x.size();
-      EXPECT_LT((b.head(n) - s.x).norm(), 1e-12 * s.x.norm()) << background << " step " << step;
-      EXPECT_LT((b.tail(n) - s.v).norm(), 1e-9 * s.v.norm()) << background << " step " << step;
+      EXPECT_LT((b.head(n) - s.x).norm(), 1e-12 * s.x.norm()) << name << " step " << step;
+      EXPECT_LT((b.tail(n) - s.v).norm(), 1e-9 * s.v.norm()) << name << " step " << step;
       w0.endStep(a, E0);
       w1.endStep(a, E0);
       means.push_back(w0.reference());
       state = a;
     }
+    // The tangents adopted: the first at construction, then every N steps from the first
+    // adopted at step N + B.
     const ForecastStats cost = w0.takeStats();
-    EXPECT_EQ(cost.forecasts, 4);
-    EXPECT_EQ(cost.factorizations, background ? 4 : 5);  // the first at construction
-    EXPECT_EQ(cost.linearIterations, 0);
-    EXPECT_EQ(w0.takeStats().forecasts, 0);
+    EXPECT_EQ(cost.forecasts, kSteps) << name;
+    EXPECT_EQ(cost.factorizations, 1 + (kSteps - adoptAfter) / sc.every) << name;
+    EXPECT_EQ(cost.linearIterations, 0) << name;
+    EXPECT_EQ(w0.takeStats().forecasts, 0) << name;
   }
+}
+
+// A background build cannot be given longer than until the next one is due.
+TEST(MechanicalForecastModel, BackgroundStepsBeyondTheRefreshIntervalAreRefused) {
+  const MechanicalModel model = cylinderModel();
+  ForecastModelOptions o;
+  o.meanTangent = true;
+  o.tangentInBackground = true;
+  o.tangentRefreshEvery = 2;
+  o.tangentBackgroundSteps = 3;
+  EXPECT_THROW(MechanicalForecastModel(model, {0.01, 0, 1e-10}, {}, {}, model.restState(), o, 0,
+                                       std::make_shared<SharedFactorization>()),
+               std::invalid_argument);
 }
 
 // tangentSinglePrecision: the same steps through the factor rounded to float — not the same bits

@@ -72,6 +72,7 @@ void expectSameAssimilation(const AssimilationSettings& a, const AssimilationSet
   EXPECT_EQ(a.meanTangent, b.meanTangent);
   EXPECT_EQ(a.tangentRefreshEvery, b.tangentRefreshEvery);
   EXPECT_EQ(a.tangentInBackground, b.tangentInBackground);
+  EXPECT_EQ(a.tangentBackgroundSteps, b.tangentBackgroundSteps);
   EXPECT_EQ(a.tangentSinglePrecision, b.tangentSinglePrecision);
   ASSERT_EQ(a.parameters.size(), b.parameters.size());
   for (size_t i = 0; i < a.parameters.size(); ++i) {

@@ -48,6 +48,10 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
     statics_ = std::make_unique<StaticSolver>(
         model_, makeLinearSolver(options.solver, options.refresh), *options_.statics);
   }
+  if (options_.tangentBackgroundSteps > options_.tangentRefreshEvery)
+    throw std::invalid_argument(
+        "MechanicalForecastModel: a background build is adopted before the next one is due "
+        "(tangentBackgroundSteps <= tangentRefreshEvery)");
   if (options_.meanTangent) {
     if (!shared_)
       throw std::invalid_argument(
@@ -372,13 +376,17 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
 void MechanicalForecastModel::refreshMeanTangent() {
   if (!options_.meanTangent || worker_ != 0) return;
   const bool due = ++shared_->stepsSinceTangent >= options_.tangentRefreshEvery;
-  // A background build launched at the previous endStep replaces the tangent now, whatever the
-  // thread timing (waiting for it if need be): the schedule, and the result, are the same on
-  // any machine. The tangent in use is thus 1 to N steps old (N = tangentRefreshEvery): older
-  // elastic tangents can make the step unstable (docs/liver.md). Static frames have no such
-  // instability (the mean is solved to equilibrium): their build is adopted when the next one
-  // is due, so that it has N frames to finish on the other core.
-  if (pendingTangent_.valid() && (!statics_ || due)) {
+  // A background build replaces the tangent B steps after it was launched (B =
+  // tangentBackgroundSteps), whatever the thread timing (waiting for it if need be): the
+  // schedule, and the result, are the same on any machine. The tangent in use is thus B to
+  // B + N - 1 steps old (N = tangentRefreshEvery): older elastic tangents can make the step
+  // unstable (docs/liver.md), so dynamic steps adopt after one step unless told otherwise.
+  // Static frames have no such instability (the mean is solved to equilibrium): their build is
+  // adopted when the next one is due, so that it has N frames to finish on the other core.
+  const int adoptAfter = options_.tangentBackgroundSteps > 0 ? options_.tangentBackgroundSteps
+                         : statics_                          ? options_.tangentRefreshEvery
+                                                             : 1;
+  if (pendingTangent_.valid() && shared_->stepsSinceTangent >= adoptAfter) {
     const auto waitStart = Clock::now();
     pendingTangent_.wait();
     stats_.tangentWaitSeconds += secondsSince(waitStart);

@@ -75,6 +75,11 @@ struct ForecastModelOptions {
   // tangent in use at the end of that step, so the forecasts step with a tangent 1 to N steps
   // old (N = tangentRefreshEvery), deterministically.
   bool tangentInBackground = false;
+  // Steps a background build is given before it replaces the tangent in use (1 to
+  // tangentRefreshEvery): it runs beside the forecasts of these steps and the idle time between
+  // frames, and the tangent is that many steps older. 0: 1 for dynamic steps (older elastic
+  // tangents can make a step unstable), tangentRefreshEvery for static frames.
+  int tangentBackgroundSteps = 0;
   // Solve with the mean tangent's factor rounded to float (CholeskyFactor::solveSinglePrecision):
   // ~40 % less solve time on the liver, and a step ~1e-7 of its increment from the double one.
   // The rounded copy is made where the tangent is built (the background thread if any).

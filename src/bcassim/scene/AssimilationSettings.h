@@ -100,8 +100,11 @@ struct AssimilationSettings {
   // tangent: mean — every forecast steps with the tangent of the analysed mean, factorised once
   // per refresh (FrozenTangent; a Rosenbrock-W step) instead of assembling and solving its own.
   bool meanTangent = false;
-  int tangentRefreshEvery = 1;          // steps between two mean tangents
-  bool tangentInBackground = false;     // build it while the next step runs (one step older)
+  int tangentRefreshEvery = 1;       // steps between two mean tangents
+  bool tangentInBackground = false;  // build it while the next step runs (one step older)
+  // Steps a background build is given before it is adopted (1..tangentRefreshEvery); 0: 1 for
+  // dynamic steps, tangentRefreshEvery for static frames.
+  int tangentBackgroundSteps = 0;
   bool tangentSinglePrecision = false;  // tangent_precision: single — solves with L in float
   std::vector<EstimatedParameter> parameters;
   ObservationSettings observations;

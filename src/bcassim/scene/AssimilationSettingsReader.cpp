@@ -59,6 +59,7 @@ const std::vector<std::string> kAssimilationKeys = {"filter",
                                                     "tangent",
                                                     "tangent_refresh_every",
                                                     "tangent_background",
+                                                    "tangent_background_steps",
                                                     "tangent_precision",
                                                     "parameters",
                                                     "observations",
@@ -405,10 +406,17 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
                        FrozenTangent::kMaxCorrectedSprings, c.model.springs.springs().size()));
   s.tangentRefreshEvery = r.integer("tangent_refresh_every", 1, Range::AtLeastOne);
   s.tangentInBackground = r.boolean("tangent_background", false);
+  s.tangentBackgroundSteps = r.integer("tangent_background_steps", 0, Range::AtLeastOne);
   s.tangentSinglePrecision =
       r.choice("tangent_precision", "double", {"double", "single"}) == "single";
   r.rejectUnless(s.meanTangent, "tangent_refresh_every", "tangent: mean");
   r.rejectUnless(s.meanTangent, "tangent_background", "tangent: mean");
+  r.rejectUnless(s.tangentInBackground, "tangent_background_steps", "tangent_background: true");
+  if (s.tangentBackgroundSteps > s.tangentRefreshEvery)
+    r.fail("tangent_background_steps",
+           fmt::format("{} is more than tangent_refresh_every ({}): a build is adopted at the "
+                       "latest when the next one is due",
+                       s.tangentBackgroundSteps, s.tangentRefreshEvery));
   r.rejectUnless(s.meanTangent, "tangent_precision", "tangent: mean");
   r.rejectUnless(!c.statics, "tangent_precision",
                  "dynamic frames (static ones solve their chord steps in float already)");
