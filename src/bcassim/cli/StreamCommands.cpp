@@ -133,6 +133,7 @@ class ServeCommand : public Command {
     if (async_) {
       scene.assimilation->threads = 1;
       scene.assimilation->tangentInBackground = false;  // a third thread on two cores
+      scene.assimilation->tangentBackgroundSteps = 0;
     }
 
     createOutputDirectory(outDir_);
