@@ -72,8 +72,8 @@ struct ForecastModelOptions {
   bool meanTangent = false;
   int tangentRefreshEvery = 1;
   // Build the mean's tangent on a thread of its own while the next step runs; it replaces the
-  // tangent in use at the end of that step, so the forecasts step with a tangent 1 to N steps
-  // old (N = tangentRefreshEvery), deterministically.
+  // tangent in use at the end of that step (or of a later one, tangentBackgroundSteps), so the
+  // forecasts step with a tangent 1 to N steps old (N = tangentRefreshEvery), deterministically.
   bool tangentInBackground = false;
   // Steps a background build is given before it replaces the tangent in use (1 to
   // tangentRefreshEvery): it runs beside the forecasts of these steps and the idle time between

@@ -101,7 +101,7 @@ struct AssimilationSettings {
   // per refresh (FrozenTangent; a Rosenbrock-W step) instead of assembling and solving its own.
   bool meanTangent = false;
   int tangentRefreshEvery = 1;       // steps between two mean tangents
-  bool tangentInBackground = false;  // build it while the next step runs (one step older)
+  bool tangentInBackground = false;  // build it while the next steps run (older)
   // Steps a background build is given before it is adopted (1..tangentRefreshEvery); 0: 1 for
   // dynamic steps, tangentRefreshEvery for static frames.
   int tangentBackgroundSteps = 0;
