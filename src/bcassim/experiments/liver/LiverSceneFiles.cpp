@@ -133,14 +133,11 @@ void emitAssimilation(YAML::Emitter& out, const LiverSceneSpec& spec) {
   out << Key << "state" << Value << Flow << BeginMap << Key << "positions" << Value << true << Key
       << "velocities" << Value << true << EndMap;
   // Real time (issue 4): the tangent of the analysed mean, built every other step on a thread
-  // of its own and adopted two steps later (2 or 3 steps old; 5-7 steps made this liver go
-  // unstable, docs/liver.md).
+  // of its own (1 or 2 steps old; older ones can cost accuracy or stability, docs/liver.md).
   out << Key << "tangent" << Value << "mean"
       << Comment("own: each sigma point its own eq. 2.16 step (slower)");
   out << Key << "tangent_background" << Value << true;
   out << Key << "tangent_refresh_every" << Value << 2;
-  out << Key << "tangent_background_steps" << Value << 2
-      << Comment("a build has two steps to finish before it is adopted");
   out << Key << "tangent_precision" << Value << "single"
       << Comment("the factor in float: ~40 % less solve time; double: as built");
   out << Key << "parameters" << Value << BeginSeq;

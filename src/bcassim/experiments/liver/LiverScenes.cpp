@@ -126,9 +126,10 @@ Scene makeLiverEstimationScene(const LiverSceneSpec& spec) {
 
   // ROUKF estimates k_gamma of each group (the cubic term known) from the markers. Real time
   // (issue 4): every sigma point steps with the elastic tangent of the analysed mean and its own
-  // springs; the tangent is built every other step on a thread of its own while the next two
-  // steps run (and the idle time between camera frames), so it is 2 or 3 steps old (5-7 steps
-  // made this nearly incompressible liver go unstable, docs/liver.md).
+  // springs; the tangent is built every other step on a thread of its own while the next step
+  // runs, so it is 1 or 2 steps old (5-7 steps made this nearly incompressible liver go unstable;
+  // adopted two steps later, 2-3 steps old, it cut the steps' tail but LiTS-11's full-size
+  // estimate fell from 0.77 to 1.33 mm: docs/liver.md).
   AssimilationSettings s;
   s.filter = FilterKind::Roukf;
   s.threads = spec.options.threads;
@@ -137,7 +138,6 @@ Scene makeLiverEstimationScene(const LiverSceneSpec& spec) {
   s.meanTangent = true;
   s.tangentInBackground = true;
   s.tangentRefreshEvery = 2;
-  s.tangentBackgroundSteps = 2;
   // Solves with the factor in float: ~40 % less solve time; on LiTS-3 the hidden points within
   // 4e-8 m and the validation error to 1e-5 mm of the double solves' (docs/benchmarks.md §7).
   s.tangentSinglePrecision = true;
