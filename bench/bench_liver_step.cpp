@@ -56,7 +56,6 @@ Row measure(const std::filesystem::path& dir, const std::string& mode, int threa
   s.threads = threads;
   s.meanTangent = mode != "own";
   s.tangentInBackground = mode == "mean-bg";
-  if (!s.tangentInBackground) s.tangentBackgroundSteps = 0;  // as prepared (2) otherwise
   s.reuseFactorization = true;
   s.validationTruth.reset();
   scene.hidden.points.clear();

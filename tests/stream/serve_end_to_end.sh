@@ -23,7 +23,7 @@ STEPS=40
 "$BCASSIM" liver prepare phantom --out scene --coarse-nodes 600 --fine-nodes 1200 --groups 4 \
   --steps $STEPS --observed-steps 30 --dt 0.02 > prepare.out
 # The tangent built in the foreground, as --async builds it, so that every run below does the same
-# arithmetic (a background tangent is adopted steps later).
+# arithmetic (a background tangent is adopted one or more steps later).
 sed -i -e 's/^  tangent_background: true/  tangent_background: false/' \
   -e '/^  tangent_background_steps:/d' scene/estimate.yaml
 grep -q '^  tangent_background: false' scene/estimate.yaml
