@@ -154,11 +154,6 @@ TEST(AssimilationCli, TangentOptionsNeedTheMeanTangent) {
   expectError(assimilate(dir, sectionWith("  tangent: mean\n  tangent_background: true\n"
                                           "  tangent_background_steps: 0\n")),
               "scene.yaml:9: assimilation.tangent_background_steps: must be >= 1, got 0");
-  expectError(assimilate(dir, sectionWith("  tangent_correction: chord\n")),
-              "scene.yaml:7: assimilation.tangent_correction: only for tangent: mean");
-  expectError(assimilate(dir, sectionWith("  tangent: mean\n  tangent_correction: newton\n")),
-              "scene.yaml:8: assimilation.tangent_correction: expected one of none, chord, got "
-              "'newton'");
   expectError(assimilate(dir, sectionWith("  tangent: frozen\n")),
               "scene.yaml:7: assimilation.tangent: expected one of own, mean, got 'frozen'");
 }

@@ -93,8 +93,7 @@ TEST(MechanicalForecastModel, SharedFactorisationGivesTheDirectResult) {
 
 // tangent: mean — every worker steps with the tangent worker 0 built at the analysed mean (with
 // the mean's parameters): synchronously at endStep every N steps (N = tangentRefreshEvery), or in
-// the background, launched when due and adopted B steps later (B = tangentBackgroundSteps); with
-// tangentChordCorrection each step is the corrected one of that tangent.
+// the background, launched when due and adopted B steps later (B = tangentBackgroundSteps).
 TEST(MechanicalForecastModel, MeanTangentForecastsStepWithTheMeansTangent) {
   const MechanicalModel model = cylinderModel();
   const MechanicalState initial = model.restState();
@@ -109,21 +108,17 @@ TEST(MechanicalForecastModel, MeanTangentForecastsStepWithTheMeansTangent) {
   struct Schedule {
     bool background;
     int every, steps;  // steps 0: the default (1 for dynamic steps)
-    bool chord = false;
   };
   constexpr int kSteps = 6;
-  for (const Schedule& sc :
-       {Schedule{false, 1, 0}, Schedule{true, 1, 0}, Schedule{false, 2, 0}, Schedule{true, 2, 1},
-        Schedule{true, 2, 2}, Schedule{true, 3, 2}, Schedule{true, 2, 2, true}}) {
+  for (const Schedule& sc : {Schedule{false, 1, 0}, Schedule{true, 1, 0}, Schedule{false, 2, 0},
+                             Schedule{true, 2, 1}, Schedule{true, 2, 2}, Schedule{true, 3, 2}}) {
     const std::string name = "background " + std::to_string(sc.background) + " every " +
-                             std::to_string(sc.every) + " steps " + std::to_string(sc.steps) +
-                             " chord " + std::to_string(sc.chord);
+                             std::to_string(sc.every) + " steps " + std::to_string(sc.steps);
     ForecastModelOptions o;
     o.meanTangent = true;
     o.tangentInBackground = sc.background;
     o.tangentRefreshEvery = sc.every;
     o.tangentBackgroundSteps = sc.steps;
-    o.tangentChordCorrection = sc.chord;
     const int adoptAfter = sc.background ? std::max(sc.steps, 1) : 0;
     auto shared = std::make_shared<SharedFactorization>();
     MechanicalForecastModel w0(at8000, euler, {}, params, initial, o, 0, shared);
@@ -139,8 +134,7 @@ TEST(MechanicalForecastModel, MeanTangentForecastsStepWithTheMeansTangent) {
       const int built = std::max(step - 1 - adoptAfter, 0) / sc.every * sc.every;
       MechanicalState s = means.back();
       ImplicitEuler direct(at9500, makeLinearSolver("cholmod"), euler);
-      direct.stepWithTangent(at9500, s, *FrozenTangent::build(at8000, means[built], 0.01), false,
-                             sc.chord);
+      direct.stepWithTangent(at9500, s, *FrozenTangent::build(at8000, means[built], 0.01));
       const Eigen::Index n = s.x.size();
       EXPECT_LT((b.head(n) - s.x).norm(), 1e-12 * s.x.norm()) << name << " step " << step;
       EXPECT_LT((b.tail(n) - s.v).norm(), 1e-9 * s.v.norm()) << name << " step " << step;

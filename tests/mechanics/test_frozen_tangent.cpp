@@ -2,8 +2,7 @@
 // one-stage Rosenbrock-W step): with the state's own tangent it is eq. 2.16 exactly, Dirichlet
 // motion included; with the tangent of another state its one-step difference from eq. 2.16 is
 // O(dt^2) (first-order consistency for any tangent); springs with other coefficients than the
-// tangent's are still exact; a chord correction makes the difference quadratic in the tangent's
-// distance from the state's own; a wrong dt is refused.
+// tangent's are still exact; a wrong dt is refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -116,82 +115,6 @@ TEST(FrozenTangent, SpringsOfTheStepReplaceTheTangentsExactly) {
   ASSERT_GT((exact.v - s.v).norm(), 1e-4);
   EXPECT_LT((frozen.v - exact.v).norm(), 1e-9 * (exact.v - s.v).norm());
   EXPECT_LT((frozen.x - exact.x).norm(), 1e-12 * exact.x.norm());
-}
-
-// The chord correction (stepWithTangent's chordCorrection) is one iteration of eq. 2.16 solved
-// with the old factor: its difference from eq. 2.16 is quadratic in the tangent's distance (the
-// uncorrected one linear), it changes nothing with the state's own tangent, and it keeps the
-// springs exact and the prescribed motion exact.
-TEST(FrozenTangent, ChordCorrectionMakesTheDifferenceQuadraticInTheTangentsAge) {
-  MechanicalModel model = cylinder(0.01);
-  std::vector<CubicSpring> springs;
-  for (int tet = 0; tet < model.mesh->numTets(); ++tet) {
-    const Vec3 centre =
-        0.25 *
-        (model.mesh->V.row(model.mesh->T(tet, 0)) + model.mesh->V.row(model.mesh->T(tet, 1)) +
-         model.mesh->V.row(model.mesh->T(tet, 2)) + model.mesh->V.row(model.mesh->T(tet, 3)))
-            .transpose();
-    if (std::abs(centre.z() - 0.12) > 0.01 || centre.y() < 0.008) continue;
-    springs.push_back({tet, Vec4::Constant(0.25), centre + Vec3(0, 0.03, 0.01), 0.025, 0});
-  }
-  ASSERT_GE(springs.size(), 2u);
-  model.springs = CubicSpringSet(springs, {{2e5, 0, 5.0}});
-  MechanicalModel softer = model;  // the tangent's springs: the mean's, softer
-  softer.springs.setCoefficients(0, {2e4, 0, 0.5});
-  const double dt = 0.01;
-  const MechanicalState s = movingState(model, 30, dt);
-  const Eigen::VectorXd away = movingState(model, 22, dt).x - s.x;  // a few mm
-
-  MechanicalState exact = s;
-  ImplicitEuler euler(model, makeLinearSolver("cholmod"), {dt, 0, 1e-10});
-  euler.step(model, exact);
-  const double change = (exact.v - s.v).norm();
-  ASSERT_GT(change, 1e-4);
-  double plainBefore = 0, chordBefore = 0;
-  for (double distance : {0.4, 0.2, 0.1}) {
-    MechanicalState other = s;
-    other.x += distance * away;
-    const auto tangent = FrozenTangent::build(softer, other, dt);
-    MechanicalState plain = s, chord = s;
-    euler.stepWithTangent(model, plain, *tangent);
-    euler.stepWithTangent(model, chord, *tangent, false, true);
-    const double plainDiff = (plain.v - exact.v).norm(), chordDiff = (chord.v - exact.v).norm();
-    EXPECT_LT(chordDiff, 0.2 * plainDiff) << "tangent " << distance << " of the way";
-    if (plainBefore > 0) {
-      EXPECT_NEAR(std::log2(plainBefore / plainDiff), 1.0, 0.2) << distance;
-      EXPECT_NEAR(std::log2(chordBefore / chordDiff), 2.0, 0.3) << distance;
-    }
-    plainBefore = plainDiff;
-    chordBefore = chordDiff;
-    const Eigen::VectorXd target = model.dirichlet.targetPositions(model.restPositions(), chord.t);
-    for (Eigen::Index k = 0; k < target.size(); ++k)
-      EXPECT_NEAR(chord.x(model.dirichlet.constrainedDofs()[k]), target(k), 1e-14);
-  }
-  // With the state's own tangent (the springs still the softer ones') there is nothing to correct
-  // but the forward difference's own error (~4e-7 of the step's change here).
-  MechanicalState own = s;
-  euler.stepWithTangent(model, own, *FrozenTangent::build(softer, s, dt), false, true);
-  EXPECT_LT((own.v - exact.v).norm(), 1e-5 * change);
-}
-
-// A tangent far from the state's stiffness (here that of a 20x softer material) makes the chord
-// iteration diverge: its correction, larger than half the step's velocity change, is refused and
-// counted, and the step is the uncorrected one.
-TEST(FrozenTangent, ChordCorrectionLargerThanHalfTheStepIsRefused) {
-  const MechanicalModel model = cylinder(0.01);
-  MechanicalModel soft = model;
-  soft.elasticity.setMaterial(0, makeMaterial("stvk", 400, 0.45));
-  const double dt = 0.01;
-  const MechanicalState s = movingState(model, 30, dt);
-  const auto tangent = FrozenTangent::build(soft, s, dt);
-  ImplicitEuler euler(model, makeLinearSolver("cholmod"), {dt, 0, 1e-10});
-  MechanicalState plain = s, chord = s;
-  euler.stepWithTangent(model, plain, *tangent);
-  EXPECT_EQ(euler.lastTimings().chordRefusals, 0);
-  euler.stepWithTangent(model, chord, *tangent, false, true);
-  EXPECT_EQ(euler.lastTimings().chordRefusals, 1);
-  EXPECT_EQ(chord.v, plain.v);
-  EXPECT_EQ(chord.x, plain.x);
 }
 
 TEST(FrozenTangent, TangentBuiltForAnotherTimeStepIsRefused) {

@@ -71,20 +71,6 @@ TEST(PointCloudScene, TangentPrecisionIsRefusedWithStaticFrames) {
   EXPECT_EQ(error.find('\n'), std::string::npos) << error;
 }
 
-// Static frames iterate their chord steps to the equilibrium: a chord correction of a dynamic
-// step has no place there and is refused rather than ignored.
-TEST(PointCloudScene, TangentCorrectionIsRefusedWithStaticFrames) {
-  const fs::path dir = cloudDir();
-  const std::string yaml = std::string(kStaticBox) + kLoad + assimilation(kForceX, kCloud) +
-                           "  tangent: mean\n  tangent_correction: chord\n";
-  const std::string error = errorOf(yaml, dir);
-  EXPECT_NE(error.find("assimilation.tangent_correction: only for dynamic frames (static ones "
-                       "iterate their chord steps to equilibrium already)"),
-            std::string::npos)
-      << error;
-  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
-}
-
 TEST(PointCloudScene, ForceParametersAndStaticAssimilationAreRead) {
   const fs::path dir = cloudDir();
   const Scene s = loadSceneFromString(

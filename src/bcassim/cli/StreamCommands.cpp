@@ -134,9 +134,6 @@ class ServeCommand : public Command {
       scene.assimilation->threads = 1;
       scene.assimilation->tangentInBackground = false;  // a third thread on two cores
       scene.assimilation->tangentBackgroundSteps = 0;
-      // Built at the end of its step, the tangent is at most tangent_refresh_every - 1 steps
-      // old: the chord correction, there for older ones, would only slow the one filter thread.
-      scene.assimilation->tangentChordCorrection = false;
     }
 
     createOutputDirectory(outDir_);

@@ -92,7 +92,6 @@ ForecastStats& ForecastStats::operator+=(const ForecastStats& o) {
   forecasts += o.forecasts;
   tangentFailures += o.tangentFailures;
   stepRetries += o.stepRetries;
-  chordRefusals += o.chordRefusals;
   linearIterations += o.linearIterations;
   factorizations += o.factorizations;
   return *this;
@@ -313,13 +312,11 @@ void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen
   setParameters(params);
   ++stats_.forecasts;
   if (options_.meanTangent) {
-    integrator_.stepWithTangent(model_, work_, *shared_->tangent, options_.tangentSinglePrecision,
-                                options_.tangentChordCorrection);
+    integrator_.stepWithTangent(model_, work_, *shared_->tangent, options_.tangentSinglePrecision);
     const StepTimings& t = integrator_.lastTimings();
     stats_.assemblySeconds += t.assembly;
     stats_.solveSeconds += t.solve;
     stats_.stepRetries += t.retries;
-    stats_.chordRefusals += t.chordRefusals;
     newState = packState(work_);
     observe(work_, observable);
     return;
@@ -368,11 +365,10 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
   if (options_.meanTangent && worker_ == 0) shared_->endStepTangent = shared_->tangent;
   if (options_.meanTangent)
     integrator_.stepWithTangent(model_, reference_, *shared_->endStepTangent,
-                                options_.tangentSinglePrecision, options_.tangentChordCorrection);
+                                options_.tangentSinglePrecision);
   else
     integrator_.step(model_, reference_);
   stats_.stepRetries += integrator_.lastTimings().retries;
-  stats_.chordRefusals += integrator_.lastTimings().chordRefusals;
   unpackState(state, reference_);
   refreshMeanTangent();
 }

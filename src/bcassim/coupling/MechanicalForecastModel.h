@@ -58,8 +58,6 @@ struct ForecastStats {
   int tangentFailures = 0;
   // Failed steps redone as two half steps (ImplicitEuler::step), over the forecasts and the mean.
   int stepRetries = 0;
-  // Chord corrections refused as too large (tangentChordCorrection; the plain step was kept).
-  int chordRefusals = 0;
   ForecastStats& operator+=(const ForecastStats& o);
 };
 
@@ -87,10 +85,6 @@ struct ForecastModelOptions {
   // The rounded copy is made where the tangent is built (the background thread if any).
   // Dynamic steps only: static frames choose their own precision.
   bool tangentSinglePrecision = false;
-  // One chord correction per forecast step (ImplicitEuler::stepWithTangent's chordCorrection):
-  // each sigma point's step comes closer to its own eq. 2.16 step whatever the tangent's age,
-  // for one more force evaluation and solve. Dynamic steps only.
-  bool tangentChordCorrection = false;
   // Quasi-static frames: every forecast is the equilibrium (StaticSolver, Newton) under the
   // loads of the next frame's time with the sigma point's parameters, warm-started from the
   // analysed mean's equilibrium of the frame before; the filter then estimates parameters only

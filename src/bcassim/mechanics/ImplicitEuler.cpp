@@ -3,9 +3,6 @@
 #include <fmt/format.h>
 
 #include <Eigen/LU>
-#include <algorithm>
-#include <cmath>
-#include <limits>
 
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
@@ -15,8 +12,6 @@
 namespace bcassim {
 namespace {
 constexpr const char* kIntegrator = "implicit Euler";
-// Largest chord correction kept, relative to the velocity change it corrects.
-constexpr double kMaxChordCorrection = 0.5;
 
 // An element inverted before the step: no smaller step can mend that.
 StepFailure invertedAtStart(const InvertedElementError& e, double t) {
@@ -177,8 +172,7 @@ void ImplicitEuler::checkEndState(const MechanicalModel& model, const Mechanical
 }
 
 void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalState& s,
-                                    const FrozenTangent& tangent, bool singlePrecision,
-                                    bool chordCorrection) {
+                                    const FrozenTangent& tangent, bool singlePrecision) {
   const auto start = Clock::now();
   timings_ = {};
   const double h = options_.dt;
@@ -189,7 +183,7 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
                     tangent.dt(), h));
   const MechanicalState from = s;
   try {
-    attemptWithTangent(model, s, tangent, singlePrecision, chordCorrection);
+    attemptWithTangent(model, s, tangent, singlePrecision);
   } catch (const StepFailure&) {
     throw;
   } catch (const NumericalError& e) {
@@ -201,8 +195,7 @@ void ImplicitEuler::stepWithTangent(const MechanicalModel& model, MechanicalStat
 }
 
 void ImplicitEuler::attemptWithTangent(const MechanicalModel& model, MechanicalState& s,
-                                       const FrozenTangent& tangent, bool singlePrecision,
-                                       bool chordCorrection) {
+                                       const FrozenTangent& tangent, bool singlePrecision) {
   const double h = options_.dt;
   const double tNext = s.t + h;
   const DirichletConditions& bc = model.dirichlet;
@@ -238,56 +231,11 @@ void ImplicitEuler::attemptWithTangent(const MechanicalModel& model, MechanicalS
   ++timings_.linearSolves;
   timings_.lastSolve = {};
   timings_.solve += secondsBetween(t0, Clock::now());
-  if (chordCorrection) correctChord(model, s, tangent, D, singlePrecision);
 
   s.v += dv_;
   s.x += h * s.v;
   s.t = tNext;
   checkEndState(model, s, false);
-}
-
-void ImplicitEuler::correctChord(const MechanicalModel& model, const MechanicalState& s,
-                                 const FrozenTangent& tangent, const Eigen::MatrixXd& D,
-                                 bool singlePrecision) {
-  // Eq. 2.16's residual at dv_ with this state's stiffness K(x) in place of the tangent's K_t
-  // (the springs are exact in both, through D): r = -c (K(x) - K_t) (v + dv), c = h zK + h^2.
-  // The mass terms cancel, so only the elastic stiffness applied to w = v + dv is needed; K(x) w
-  // is the derivative of f_int along w, by a forward difference whose displacement is ~1.5e-8 of
-  // the model's extent (round-off and truncation both ~1e-8 relative).
-  auto t0 = Clock::now();
-  chordW_ = s.v + dv_;
-  const double wMax = chordW_.lpNorm<Eigen::Infinity>();
-  if (!(wMax > 0)) return;
-  const double extent = std::max(1.0, s.x.lpNorm<Eigen::Infinity>());
-  const double eps = std::sqrt(std::numeric_limits<double>::epsilon()) * extent / wMax;
-  chordX_ = s.x + eps * chordW_;
-  try {
-    model.internalForces(s.t, chordX_, chordForces_);
-  } catch (const InvertedElementError&) {
-    return;  // a tet on the edge of inverting: the step stays the uncorrected one, still consistent
-  }
-  chordForces_ -= fint_;
-  chordForces_ /= eps;
-  chordForces_.noalias() -= tangent.stiffness() * chordW_;
-  if (D.size() > 0)
-    springScatterAdd(model, -blockDiagonalTimes(D, springGather(model, chordW_, false)), false,
-                     chordForces_);
-  chordForces_ *= -tangent.stiffnessScale();
-  model.dirichlet.zeroConstrained(chordForces_);  // the known velocities are already exact
-  timings_.assembly += secondsBetween(t0, Clock::now());
-
-  t0 = Clock::now();
-  tangent.solve(D, chordForces_, chordDv_, factorWork_, singlePrecision);
-  ++timings_.linearSolves;
-  timings_.solve += secondsBetween(t0, Clock::now());
-  // The iteration contracts only where the tangent is close to this state's stiffness; a
-  // correction as large as half the step itself says it is not (e.g. K(x) indefinite under
-  // compression, which StVK allows): the uncorrected step is kept, consistent as it is.
-  if (!(chordDv_.norm() <= kMaxChordCorrection * dv_.norm())) {
-    ++timings_.chordRefusals;
-    return;
-  }
-  dv_ += chordDv_;
 }
 
 }  // namespace bcassim

@@ -33,7 +33,6 @@ struct StepTimings {
   SolveStatus lastSolve;
   int linearSolves = 0;
   int retries = 0;  // failed attempts redone as two half steps (0 for a step that went through)
-  int chordRefusals = 0;  // chord corrections refused as too large (stepWithTangent)
 };
 
 class ImplicitEuler {
@@ -60,13 +59,8 @@ class ImplicitEuler {
   // rounded to float (FrozenTangent::solve): half its memory traffic, and a velocity change off by
   // ~1e-6 times the system's condition (relative); for steps whose start is reset often (the live
   // real-time model, which adopts each analysis; a filter's sigma points, from each analysed mean).
-  // chordCorrection: one more solve with the same factor, whose right-hand side is the residual
-  // of this state's own eq. 2.16 (its own stiffness applied to v + dv by a forward difference of
-  // its internal forces): the step then differs from eq. 2.16 by the square of what the tangent's
-  // age makes it differ, for one more force evaluation and solve.
   void stepWithTangent(const MechanicalModel& model, MechanicalState& state,
-                       const FrozenTangent& tangent, bool singlePrecision = false,
-                       bool chordCorrection = false);
+                       const FrozenTangent& tangent, bool singlePrecision = false);
 
   const StepTimings& lastTimings() const { return timings_; }
   const ImplicitEulerOptions& options() const { return options_; }
@@ -84,11 +78,7 @@ class ImplicitEuler {
   void attempt(const MechanicalModel& model, const MechanicalState& from, double h,
                MechanicalState& s);
   void attemptWithTangent(const MechanicalModel& model, MechanicalState& s,
-                          const FrozenTangent& tangent, bool singlePrecision, bool chordCorrection);
-  // dv_ += the chord step of eq. 2.16 at state s from the residual of dv_ (see stepWithTangent);
-  // D is the springs' change the first solve used, fint_ holds f_int(s.x).
-  void correctChord(const MechanicalModel& model, const MechanicalState& s,
-                    const FrozenTangent& tangent, const Eigen::MatrixXd& D, bool singlePrecision);
+                          const FrozenTangent& tangent, bool singlePrecision);
   // Throws unless the end state of a step is finite and has no inverted element.
   void checkEndState(const MechanicalModel& model, const MechanicalState& s,
                      bool forcesSeenThere) const;
@@ -97,7 +87,6 @@ class ImplicitEuler {
   ImplicitEulerOptions options_;
   SparseMatrix A_;
   Eigen::VectorXd fint_, fext_, Mv_, Kv_, rhs_, dv_, rest_, knownDv_;
-  Eigen::VectorXd chordW_, chordX_, chordForces_, chordDv_;  // correctChord's workspace
   Eigen::VectorXd stepDv_, previousStepDv_;  // velocity changes of the last two steps
   CholeskyFactor::Workspace factorWork_;
   StepTimings timings_;

@@ -106,8 +106,6 @@ struct AssimilationSettings {
   // dynamic steps, tangentRefreshEvery for static frames.
   int tangentBackgroundSteps = 0;
   bool tangentSinglePrecision = false;  // tangent_precision: single — solves with L in float
-  // tangent_correction: chord — one chord step per forecast towards its own tangent's step.
-  bool tangentChordCorrection = false;
   std::vector<EstimatedParameter> parameters;
   ObservationSettings observations;
   std::optional<TrackFrames> validationTruth;  // truth positions of the validation points, m

@@ -61,7 +61,6 @@ const std::vector<std::string> kAssimilationKeys = {"filter",
                                                     "tangent_background",
                                                     "tangent_background_steps",
                                                     "tangent_precision",
-                                                    "tangent_correction",
                                                     "parameters",
                                                     "observations",
                                                     "validation"};
@@ -421,10 +420,6 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   r.rejectUnless(s.meanTangent, "tangent_precision", "tangent: mean");
   r.rejectUnless(!c.statics, "tangent_precision",
                  "dynamic frames (static ones solve their chord steps in float already)");
-  s.tangentChordCorrection = r.choice("tangent_correction", "none", {"none", "chord"}) == "chord";
-  r.rejectUnless(s.meanTangent, "tangent_correction", "tangent: mean");
-  r.rejectUnless(!c.statics, "tangent_correction",
-                 "dynamic frames (static ones iterate their chord steps to equilibrium already)");
   if (s.meanTangent && !s.reuseFactorization)
     r.fail("reuse_factorization",
            "false does not go with tangent: mean (every sigma point steps with the mean's one "
