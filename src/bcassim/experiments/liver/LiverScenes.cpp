@@ -129,7 +129,7 @@ Scene makeLiverEstimationScene(const LiverSceneSpec& spec) {
   // springs; the tangent is built every other step on a thread of its own while the next step
   // runs, so it is 1 or 2 steps old (5-7 steps made this nearly incompressible liver go unstable;
   // adopted two steps later, 2-3 steps old, it cut the steps' tail but two livers' full-size
-  // estimates got worse on every noise seed: docs/liver.md, "How old a tangent may be").
+  // estimates got worse over five noise seeds: docs/liver.md, "How old a tangent may be").
   AssimilationSettings s;
   s.filter = FilterKind::Roukf;
   s.threads = spec.options.threads;
