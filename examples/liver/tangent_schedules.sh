@@ -64,15 +64,17 @@ PY
   done
 done
 python3 - "$OUT" "$SCHEDULES" <<'PY'
-import glob, os, re, statistics, sys
+import csv, glob, os, re, statistics, sys
 out, schedules = sys.argv[1], sys.argv[2].split()
 rows, failed = {}, {}
-for log in glob.glob(os.path.join(out, "*", "*-s*", "validate.log")):
-    liver = log.split(os.sep)[-3]
-    tag, seed = re.match(r"(.*)-s(\d+)$", log.split(os.sep)[-2]).groups()
-    m = re.search(r"final parameters\s+mean\s+\S+% \(([\d.]+) mm\)", open(log).read())
-    if m:
-        rows.setdefault(liver, {}).setdefault(tag, []).append(float(m.group(1)))
+# The validation's mean error over all steps with the final estimates, from the file `validate`
+# writes for it (errors_summary.csv: run "estimated", phase "all").
+for summary in glob.glob(os.path.join(out, "*", "*-s*", "validate", "errors_summary.csv")):
+    liver = summary.split(os.sep)[-4]
+    tag = re.match(r"(.*)-s\d+$", summary.split(os.sep)[-3]).group(1)
+    for r in csv.DictReader(open(summary)):
+        if r["run"] == "estimated" and r["phase"] == "all":
+            rows.setdefault(liver, {}).setdefault(tag, []).append(float(r["mean_mm"]))
 for mark in glob.glob(os.path.join(out, "*", "*-s*", "failed")):
     liver = mark.split(os.sep)[-3]
     tag = re.match(r"(.*)-s\d+$", mark.split(os.sep)[-2]).group(1)
@@ -87,10 +89,11 @@ print("|---|" + "---|" * len(schedules))
 for liver in sorted(rows):
     cells = []
     for s in schedules:
-        v = rows[liver].get(s.replace("/", "-"), [])
+        tag = s.replace("/", "-")
+        v = rows[liver].get(tag, [])
         seeds = f"{len(v)} seed" + ("s" if len(v) > 1 else "")
         cell = f"{statistics.mean(v):.2f} ({min(v):.2f}–{max(v):.2f}, {seeds})" if v else "—"
-        stopped = failed.get((liver, s.replace("/", "-")), 0)
+        stopped = failed.get((liver, tag), 0)
         cells.append(cell + (f"; {stopped} stopped" if stopped else ""))
     print(f"| {liver} | " + " | ".join(cells) + " |")
 PY
