@@ -9,8 +9,9 @@
 # SEEDS (default "1 2 3 4 5"): assimilation.seed of each rerun (the observation noise).
 # SCHEDULES (default "2/1 2/2 1/sync"): refresh/steps, i.e. tangent_refresh_every and
 # tangent_background_steps ("sync": built at the end of each step, no background thread).
-# A run that stops (a step that fails) is counted as such in the table, its error in
-# OUT/LIVER/SCHEDULE-sSEED/assimilate.log. Resumable: a variant that finished or failed is skipped.
+# A run that stops (a step of the estimation or of its validation that fails) is counted as such
+# in the table, its error in OUT/LIVER/SCHEDULE-sSEED/{assimilate,validate}.log. Resumable: a
+# variant that finished or failed is skipped.
 set -euo pipefail
 BUILD=$1
 OUT=$2
@@ -57,8 +58,13 @@ PY
         tail -n 1 "$dir/assimilate.log" > "$dir/failed"
         continue
       fi
-      "$B" validate "$scene" --estimates "$dir/estimate/estimates.csv" --out "$dir/validate" -q \
-        --no-plots > "$dir/validate.log" 2>&1
+      # A validation that stops (the forward run with the final estimates fails) counts as a
+      # stopped run too, its line kept; the other variants go on.
+      if ! "$B" validate "$scene" --estimates "$dir/estimate/estimates.csv" --out "$dir/validate" \
+        -q --no-plots > "$dir/validate.log" 2>&1; then
+        tail -n 1 "$dir/validate.log" > "$dir/failed"
+        continue
+      fi
       touch "$dir/done"
     done
   done
@@ -70,6 +76,8 @@ rows, failed = {}, {}
 # The validation's mean error over all steps with the final estimates, from the file `validate`
 # writes for it (errors_summary.csv: run "estimated", phase "all").
 for summary in glob.glob(os.path.join(out, "*", "*-s*", "validate", "errors_summary.csv")):
+    if os.path.exists(os.path.join(os.path.dirname(os.path.dirname(summary)), "failed")):
+        continue  # a validation that stopped: counted below, its partial summary not used
     liver = summary.split(os.sep)[-4]
     tag = re.match(r"(.*)-s\d+$", summary.split(os.sep)[-3]).group(1)
     for r in csv.DictReader(open(summary)):
