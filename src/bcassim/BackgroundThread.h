@@ -2,9 +2,6 @@
 // std::future: for work that recurs in the background all run long (the mean tangent's builds).
 #pragma once
 
-#include <pthread.h>
-#include <sched.h>
-
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -24,13 +21,7 @@ namespace bcassim {
 // job underway finish, drops the ones not started (their futures report broken_promise) and joins.
 class BackgroundThread {
  public:
-  // Idle: the thread runs only on a core that nothing else of this machine wants (Linux
-  // SCHED_IDLE), for work that should fill the gaps of a parallel loop without slowing its
-  // threads; whoever waits for a job's future leaves it a core.
-  enum class Priority { Normal, Idle };
-
-  explicit BackgroundThread(Priority priority = Priority::Normal)
-      : priority_(priority), thread_([this] { run(); }) {}
+  BackgroundThread() : thread_([this] { run(); }) {}
   ~BackgroundThread() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -59,12 +50,6 @@ class BackgroundThread {
 
  private:
   void run() {
-#ifdef SCHED_IDLE
-    if (priority_ == Priority::Idle) {
-      sched_param none{};
-      pthread_setschedparam(pthread_self(), SCHED_IDLE, &none);  // best effort: normal if refused
-    }
-#endif
     for (;;) {
       std::function<void()> job;
       {
@@ -82,7 +67,6 @@ class BackgroundThread {
   std::condition_variable wake_;
   std::deque<std::function<void()>> jobs_;
   bool stopping_ = false;
-  Priority priority_;
   std::thread thread_;  // last: started once the members above exist
 };
 

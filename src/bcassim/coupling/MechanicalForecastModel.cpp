@@ -239,7 +239,8 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
     const double t = reference_.t + integrator_.options().dt;
     if (!chordMean(t)) {
       solveStatic(reference_, t);
-      tangentDidNotServe_ = options_.meanTangent;  // refreshMeanTangent builds one here, now
+      // The tangent did not serve: a new one at this equilibrium, whatever the schedule.
+      if (options_.meanTangent) shared_->stepsSinceTangent = options_.tangentRefreshEvery;
     }
     model_.externalForces(reference_.t, referenceLoad_);
     shared_->staticMean = reference_;
@@ -253,10 +254,10 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
 }
 
 // The analysed mean's equilibrium by chord iterations with the mean's tangent, from the previous
-// one. Where they stall after getting closer, the tangent is replaced (the one in use had grown
-// too far from this frame's: replaceStalledMeanTangent) and they go on once. False (reference_
-// untouched) where that does not converge either, or a step inverts an element: Newton solves
-// it then.
+// one. Where they stall after getting closer, the tangent is rebuilt at their last iterate (the
+// tangent had grown too far from this frame's: it is then the new mean tangent) and they go on
+// once. False (reference_ untouched) where that does not converge either, or a step inverts an
+// element: Newton solves it then.
 bool MechanicalForecastModel::chordMean(double t) {
   if (!options_.meanTangent || !shared_->tangent) return false;
   constexpr int kChordIterations = 10;
@@ -268,13 +269,12 @@ bool MechanicalForecastModel::chordMean(double t) {
       const StaticReport report = statics_->chordSolve(
           model_, t, x, *shared_->tangent, kChordIterations, true, options_.meanThreads);
       stats_.linearIterations += report.iterations;
-      meanChordIterations_ = report.iterations;  // with the tangent now in use
       converged = report.converged;
       if (converged || attempt == 1 || !(report.residualNorm < report.initialResidualNorm)) break;
       MechanicalState at = reference_;
       at.x = x;
       at.t = t;
-      replaceStalledMeanTangent(at);
+      rebuildMeanTangentAt(at);
     } catch (const NumericalError&) {
       break;
     }
@@ -290,23 +290,12 @@ bool MechanicalForecastModel::chordMean(double t) {
   return true;
 }
 
-// The tangent for a stalled chord: the background build underway if there is one (built at a
-// later equilibrium than the one in use: it is waited for, and adopted early), else a static
-// tangent at `at` now, the model's parameters as they are. Throws NumericalError if it cannot
-// be factorised.
-void MechanicalForecastModel::replaceStalledMeanTangent(const MechanicalState& at) {
+// A static mean tangent at `at` now (replacing any background build underway), the model's
+// parameters as they are. Throws NumericalError if it cannot be factorised.
+void MechanicalForecastModel::rebuildMeanTangentAt(const MechanicalState& at) {
   if (pendingTangent_.valid()) {
-    const auto waitStart = Clock::now();
     pendingTangent_.wait();
-    stats_.tangentWaitSeconds += secondsSince(waitStart);
-    std::future<std::shared_ptr<const FrozenTangent>> pending = std::move(pendingTangent_);
     pendingTangent_ = {};
-    try {
-      adoptTangent(pending.get());
-      return;
-    } catch (const NumericalError&) {
-      ++stats_.tangentFailures;  // built where K was not positive definite: build one here
-    }
   }
   shared_->stepsSinceTangent = 0;
   adoptTangent(FrozenTangent::buildStatic(model_, at, &shared_->tangent->factor()));
@@ -386,21 +375,7 @@ void MechanicalForecastModel::endStep(const Eigen::VectorXd& state, const Eigen:
 
 void MechanicalForecastModel::refreshMeanTangent() {
   if (!options_.meanTangent || worker_ != 0) return;
-  if (tangentDidNotServe_) {
-    // The static mean's chord failed and Newton solved the frame: the next frame's forecasts need
-    // a tangent at this equilibrium, whatever the schedule (one underway was built farther away).
-    tangentDidNotServe_ = false;
-    meanChordIterations_ = 0;
-    if (pendingTangent_.valid()) pendingTangent_.wait();
-    pendingTangent_ = {};
-    buildMeanTangent();
-    return;
-  }
-  // A static frame's chord slowing down: its tangent has aged (unless a build is underway).
-  const bool slowing = statics_ && options_.tangentRefreshChordIterations > 0 &&
-                       meanChordIterations_ >= options_.tangentRefreshChordIterations;
-  meanChordIterations_ = 0;
-  bool due = ++shared_->stepsSinceTangent >= options_.tangentRefreshEvery;
+  const bool due = ++shared_->stepsSinceTangent >= options_.tangentRefreshEvery;
   // A background build replaces the tangent B steps after it was launched (B =
   // tangentBackgroundSteps), whatever the thread timing (waiting for it if need be): the
   // schedule, and the result, are the same on any machine. The tangent in use is thus B to
@@ -421,7 +396,6 @@ void MechanicalForecastModel::refreshMeanTangent() {
       ++stats_.tangentFailures;
     }
   }
-  if (slowing && !pendingTangent_.valid()) due = true;
   if (!due) return;
   if (!options_.tangentInBackground) {
     buildMeanTangent();
@@ -434,11 +408,7 @@ void MechanicalForecastModel::refreshMeanTangent() {
   for (size_t i = 0; i < parameters_.size(); ++i)
     applyParameter(parameters_[i], meanParams_(static_cast<Eigen::Index>(i)), *tangentModel_);
   tangentState_ = reference_;
-  // Static frames' builds fill the cores the frames leave idle (their serial parts: the
-  // analysis, the closest points); dynamic steps adopt theirs one step later and want it done.
-  if (!builder_)
-    builder_ = std::make_unique<BackgroundThread>(statics_ ? BackgroundThread::Priority::Idle
-                                                           : BackgroundThread::Priority::Normal);
+  if (!builder_) builder_ = std::make_unique<BackgroundThread>();
   pendingTangent_ = builder_->submit([this, analysis = shared_->tangent] {
     return makeTangent(*tangentModel_, tangentState_, analysis ? &analysis->factor() : nullptr);
   });

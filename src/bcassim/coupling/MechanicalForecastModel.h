@@ -80,12 +80,6 @@ struct ForecastModelOptions {
   // frames, and the tangent is that many steps older. 0: 1 for dynamic steps (older elastic
   // tangents can make a step unstable), tangentRefreshEvery for static frames.
   int tangentBackgroundSteps = 0;
-  // Static frames: a new tangent is also due after a frame whose mean needed this many chord
-  // iterations or more (0: only on the schedule and where the chord stalls). The iterations grow
-  // as the tangent ages, so a build launched then (in the background with tangentInBackground,
-  // at idle priority) may be in place before they stall; the trigger is the iteration count, so
-  // the schedule is the same on any machine.
-  int tangentRefreshChordIterations = 0;
   // Solve with the mean tangent's factor rounded to float (CholeskyFactor::solveSinglePrecision):
   // ~40 % less solve time on the liver, and a step ~1e-7 of its increment from the double one.
   // The rounded copy is made where the tangent is built (the background thread if any).
@@ -150,7 +144,7 @@ class MechanicalForecastModel final : public ForecastModel {
                       Eigen::VectorXd& observable);
   void staticEndStep(const Eigen::VectorXd& params);
   bool chordMean(double t);
-  void replaceStalledMeanTangent(const MechanicalState& at);
+  void rebuildMeanTangentAt(const MechanicalState& at);
   std::shared_ptr<const FrozenTangent> makeTangent(const MechanicalModel& model,
                                                    const MechanicalState& state,
                                                    const CholeskyFactor* analysis) const;
@@ -174,9 +168,7 @@ class MechanicalForecastModel final : public ForecastModel {
   // Declared before builder_, whose destructor lets the pending build finish, so that they
   // outlive it.
   std::optional<MechanicalModel> tangentModel_;
-  Eigen::VectorXd meanParams_;   // the analysed parameters of the last endStep
-  int meanChordIterations_ = 0;  // the last frame's mean: chord iterations with its last tangent
-  bool tangentDidNotServe_ = false;  // the last frame's mean was solved by Newton
+  Eigen::VectorXd meanParams_;  // the analysed parameters of the last endStep
   MechanicalState tangentState_;
   std::future<std::shared_ptr<const FrozenTangent>> pendingTangent_;
   std::unique_ptr<BackgroundThread> builder_;  // the thread every background build runs on

@@ -266,7 +266,6 @@ ForecastModelOptions forecastOptions(const Scene& scene) {
   options.tangentRefreshEvery = s.tangentRefreshEvery;
   options.tangentInBackground = s.tangentInBackground;
   options.tangentBackgroundSteps = s.tangentBackgroundSteps;
-  options.tangentRefreshChordIterations = s.tangentRefreshChordIterations;
   options.tangentSinglePrecision = s.tangentSinglePrecision;
   if (scene.integrator == IntegratorKind::Static) options.statics = scene.statics;
   // The mean's equilibrium is solved while the workers wait: it takes all of them (and gives the

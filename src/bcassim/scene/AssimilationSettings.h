@@ -105,8 +105,6 @@ struct AssimilationSettings {
   // Steps a background build is given before it is adopted (1..tangentRefreshEvery); 0: 1 for
   // dynamic steps, tangentRefreshEvery for static frames.
   int tangentBackgroundSteps = 0;
-  // Static frames: a new tangent once the mean's chord needs this many iterations (0: off).
-  int tangentRefreshChordIterations = 0;
   bool tangentSinglePrecision = false;  // tangent_precision: single — solves with L in float
   std::vector<EstimatedParameter> parameters;
   ObservationSettings observations;

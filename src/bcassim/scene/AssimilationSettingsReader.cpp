@@ -60,7 +60,6 @@ const std::vector<std::string> kAssimilationKeys = {"filter",
                                                     "tangent_refresh_every",
                                                     "tangent_background",
                                                     "tangent_background_steps",
-                                                    "tangent_refresh_chord_iterations",
                                                     "tangent_precision",
                                                     "parameters",
                                                     "observations",
@@ -408,8 +407,6 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.tangentRefreshEvery = r.integer("tangent_refresh_every", 1, Range::AtLeastOne);
   s.tangentInBackground = r.boolean("tangent_background", false);
   s.tangentBackgroundSteps = r.integer("tangent_background_steps", 0, Range::AtLeastOne);
-  s.tangentRefreshChordIterations =
-      r.integer("tangent_refresh_chord_iterations", 0, Range::AtLeastOne);
   s.tangentSinglePrecision =
       r.choice("tangent_precision", "double", {"double", "single"}) == "single";
   r.rejectUnless(s.meanTangent, "tangent_refresh_every", "tangent: mean");
@@ -420,9 +417,6 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
            fmt::format("{} is more than tangent_refresh_every ({}): a build is adopted at the "
                        "latest when the next one is due",
                        s.tangentBackgroundSteps, s.tangentRefreshEvery));
-  r.rejectUnless(s.meanTangent, "tangent_refresh_chord_iterations", "tangent: mean");
-  r.rejectUnless(c.statics, "tangent_refresh_chord_iterations",
-                 "integrator.type static (dynamic steps take one chord step each)");
   r.rejectUnless(s.meanTangent, "tangent_precision", "tangent: mean");
   r.rejectUnless(!c.statics, "tangent_precision",
                  "dynamic frames (static ones solve their chord steps in float already)");
