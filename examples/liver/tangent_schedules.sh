@@ -73,21 +73,20 @@ python3 - "$OUT" "$SCHEDULES" <<'PY'
 import csv, glob, os, re, statistics, sys
 out, schedules = sys.argv[1], sys.argv[2].split()
 rows, failed = {}, {}
-# The validation's mean error over all steps with the final estimates, from the file `validate`
+# Each variant's folder OUT/LIVER/SCHEDULE-sSEED: stopped (its `failed` mark, counted), or the
+# validation's mean error over all steps with the final estimates, from the file `validate`
 # writes for it (errors_summary.csv: run "estimated", phase "all").
-for summary in glob.glob(os.path.join(out, "*", "*-s*", "validate", "errors_summary.csv")):
-    if os.path.exists(os.path.join(os.path.dirname(os.path.dirname(summary)), "failed")):
-        continue  # a validation that stopped: counted below, its partial summary not used
-    liver = summary.split(os.sep)[-4]
-    tag = re.match(r"(.*)-s\d+$", summary.split(os.sep)[-3]).group(1)
-    for r in csv.DictReader(open(summary)):
-        if r["run"] == "estimated" and r["phase"] == "all":
-            rows.setdefault(liver, {}).setdefault(tag, []).append(float(r["mean_mm"]))
-for mark in glob.glob(os.path.join(out, "*", "*-s*", "failed")):
-    liver = mark.split(os.sep)[-3]
-    tag = re.match(r"(.*)-s\d+$", mark.split(os.sep)[-2]).group(1)
+for variant in glob.glob(os.path.join(out, "*", "*-s*")):
+    liver = os.path.basename(os.path.dirname(variant))
+    tag = re.match(r"(.*)-s\d+$", os.path.basename(variant)).group(1)
     rows.setdefault(liver, {})
-    failed[(liver, tag)] = failed.get((liver, tag), 0) + 1
+    summary = os.path.join(variant, "validate", "errors_summary.csv")
+    if os.path.exists(os.path.join(variant, "failed")):
+        failed[(liver, tag)] = failed.get((liver, tag), 0) + 1
+    elif os.path.exists(summary):
+        for r in csv.DictReader(open(summary)):
+            if r["run"] == "estimated" and r["phase"] == "all":
+                rows[liver].setdefault(tag, []).append(float(r["mean_mm"]))
 def label(s):
     refresh, steps = s.split("/")
     return f"refresh {refresh}, " + (
