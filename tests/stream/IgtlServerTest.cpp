@@ -121,8 +121,7 @@ TEST(IgtlServer, BroadcastReachesEveryClientAndAnAbsurdBodyDropsOnlyItsSender) {
   ASSERT_TRUE(
       log.waitFor("client 2: POINT 'Markers' announces a body of 4294967296 bytes (at "
                   "most 67108864); client dropped"));
-  for (int i = 0; i < 500 && server.clients() != 1; ++i)
-    std::this_thread::sleep_for(milliseconds(10));
+  EXPECT_EQ(server.clients(), 1);  // the line is logged after the client is forgotten
   const std::string m = encodeIgtlPoints("bcassim_hidden", 0.5, "bcassim", {{"hidden_0", {}, 0}});
   EXPECT_EQ(server.broadcast(m), 1);
   std::string got(m.size(), '\0');

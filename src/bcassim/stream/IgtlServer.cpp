@@ -8,7 +8,6 @@
 
 #include <cerrno>
 #include <cstring>
-#include <set>
 
 #include "bcassim/Error.h"
 
@@ -109,38 +108,43 @@ void IgtlServer::acceptClient() {
   say(fmt::format("client {} connected", c->id));
 }
 
-bool IgtlServer::readFrom(Client& c) {
-  char chunk[65536];
-  const ssize_t r = ::recv(c.socket.fd(), chunk, sizeof chunk, MSG_DONTWAIT);
-  if (r < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return true;
-  if (r <= 0) {
-    say(fmt::format("client {} disconnected", c.id));
-    return false;
-  }
-  c.buffer.append(chunk, static_cast<std::size_t>(r));
-  return consumeMessages(c);
+void IgtlServer::forget(int id) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  clients_.erase(id);
 }
 
-bool IgtlServer::consumeMessages(Client& c) {
+void IgtlServer::readFrom(Client& c) {
+  char chunk[65536];
+  const ssize_t r = ::recv(c.socket.fd(), chunk, sizeof chunk, MSG_DONTWAIT);
+  if (r < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return;
+  if (r <= 0) {
+    forget(c.id);
+    say(fmt::format("client {} disconnected", c.id));
+    return;
+  }
+  c.buffer.append(chunk, static_cast<std::size_t>(r));
+  consumeMessages(c);
+}
+
+void IgtlServer::consumeMessages(Client& c) {
   std::size_t at = 0;
-  bool keep = true;
   while (c.buffer.size() - at >= kIgtlHeaderSize) {
     const auto* header = reinterpret_cast<const unsigned char*>(c.buffer.data() + at);
     IgtlHeader h;
     try {
       h = decodeIgtlHeader(header);
     } catch (const InputError& e) {
+      forget(c.id);
       say(fmt::format("client {}: {}; the stream cannot be followed, client dropped", c.id,
                       e.what()));
-      keep = false;
-      break;
+      return;
     }
     if (h.bodySize > kIgtlMaxBodyBytes) {
+      forget(c.id);
       say(fmt::format(
           "client {}: {} '{}' announces a body of {} bytes (at most {}); client dropped", c.id,
           h.type, h.device, h.bodySize, kIgtlMaxBodyBytes));
-      keep = false;
-      break;
+      return;
     }
     if (c.buffer.size() - at < kIgtlHeaderSize + h.bodySize) break;  // the rest is on its way
     if (h.type == "POINT" || h.type == "POLYDATA") {
@@ -167,7 +171,6 @@ bool IgtlServer::consumeMessages(Client& c) {
     at += kIgtlHeaderSize + h.bodySize;
   }
   c.buffer.erase(0, at);
-  return keep;
 }
 
 void IgtlServer::networkLoop() {
@@ -191,13 +194,9 @@ void IgtlServer::networkLoop() {
       continue;  // stop() or a new look at the clients
     }
     if (fds[1].revents & POLLIN) acceptClient();
-    std::set<int> gone;
+    // A client that leaves or is dropped has taken itself off the list (forget).
     for (std::size_t i = 0; i < polled.size(); ++i)
-      if (fds[i + 2].revents != 0 && !readFrom(*polled[i])) gone.insert(polled[i]->id);
-    if (!gone.empty()) {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      for (int id : gone) clients_.erase(id);
-    }
+      if (fds[i + 2].revents != 0) readFrom(*polled[i]);
   }
   const std::lock_guard<std::mutex> lock(mutex_);
   clients_.clear();

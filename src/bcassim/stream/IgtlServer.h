@@ -68,11 +68,15 @@ class IgtlServer {
   };
   void networkLoop();
   void acceptClient();
-  // Reads what is waiting from `c`; false when the client is gone or dropped.
-  bool readFrom(Client& c);
-  // Consumes the whole messages at the front of c.buffer; false to drop the client.
-  bool consumeMessages(Client& c);
+  // Reads what is waiting from `c`; a client that left is forgotten.
+  void readFrom(Client& c);
+  // Consumes the whole messages at the front of c.buffer; a stream that cannot be followed
+  // drops (forgets) its client.
+  void consumeMessages(Client& c);
   void say(const std::string& line);
+  // Takes a client off the list before its line is logged, so that whoever reads the line
+  // sees the count without it.
+  void forget(int id);
 
   Log log_;
   TcpSocket listener_;
