@@ -341,8 +341,9 @@ TEST(RotationVariantSvd, ReconstructsWithRotationsForEveryKindOfF) {
     EXPECT_GE(r.sigma(0), r.sigma(1) * (1 - 1e-14));
     EXPECT_GE(r.sigma(1), std::abs(r.sigma(2)) * (1 - 1e-14));
     // sigma_3 carries the sign of det F, which roundoff decides for a singular F (rank 1 or 2).
-    if (std::abs(F.determinant()) > 1e-13 * std::pow(F.norm(), 3))
+    if (std::abs(F.determinant()) > 1e-13 * std::pow(F.norm(), 3)) {
       EXPECT_GE(r.sigma(2) * F.determinant(), 0.0);
+    }
     if (!dense) {
       // Small singular values keep their relative accuracy (graded case 1, 1e-3, 1e-6).
       Vec3 expected = spectrum.cwiseAbs();

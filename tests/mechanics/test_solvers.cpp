@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cstdio>
 #include <ostream>
