@@ -76,8 +76,87 @@ TEST(AssimilationCli, FailedForecastNamesTheStepTimeAndElement) {
       "bcassim: error: scene.yaml: assimilation step 1 (t = 0.01 s), a forecast: element ";
   EXPECT_EQ(r.err.substr(0, prefix.size()), prefix) << r.err;
   EXPECT_NE(r.err.find(" inverted (det F = "), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("(time.min_dt = 0.01 s allows no halving)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(time.min_dt = 0.01 s allows no halving) (the last of 4 tries, the "
+                       "sigma points at 1/8 of their spread)\n"),
+            std::string::npos)
+      << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+// The last row's mean of estimates.csv (one parameter).
+double finalEstimate(const std::filesystem::path& estimates) {
+  const std::string text = test::readText(estimates);
+  const size_t lastRow = text.rfind('\n', text.size() - 2) + 1;
+  const size_t meanAt = text.find(',', text.find(',', text.find(',', lastRow) + 1) + 1) + 1;
+  return std::stod(text.substr(meanAt));
+}
+
+// The cantilever pulled by 10 N (E = 8,000 Pa in the truth) with a prior of 4,000 ± 3,500 Pa:
+// the simplex sigma point at 500 Pa inverts an element even at time.min_dt, the mean does not.
+// The step is redone with the points at 1/2 of their spread (500 -> 2,250 Pa) and the run goes
+// on, with one notice; those are the points of a prior of ± 1,750 Pa, whose run needs no retry
+// and, the data outweighing either prior after the first correction, ends at the same estimate.
+// Without retries the run stops at that step.
+TEST(AssimilationCli, AFailedForecastIsRedoneCloserToTheMeanAndTheRunGoesOn) {
+  const auto dir = freshDir();
+  const std::string beam =
+      "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
+      "fixed: [{region: {box: {min: [-1, -1, -1], max: [0.001, 1, 1]}}}]\n"
+      "loads: [{region: {box: {min: [0.099, -1, -1], max: [1, 1, 1]}}, "
+      "total_force: [0, -10, 0]}]\n"
+      "markers:\n"
+      "  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
+      "time: {dt: 0.01, steps: 3, min_dt: 0.01}\n"
+      "output: {pvd: false}\n";
+  const auto estimate = [&](const std::string& options, double stddev) {
+    return beam + "assimilation:\n" + options +
+           fmt::format(
+               "  parameters:\n    - {{young_modulus: {{region: 0}}, mean: 4000, stddev: "
+               "{}}}\n  observations: {{tracks: truth/markers.csv}}\n",
+               stddev);
+  };
+  writeText(dir / "truth.yaml", beam);
+  writeText(dir / "wide.yaml", estimate("", 3500));
+  writeText(dir / "narrow.yaml", estimate("", 1750));
+  writeText(dir / "never.yaml", estimate("  forecast_retries: 0\n", 3500));
+  ASSERT_EQ(runBcassim(dir, "simulate truth.yaml --out truth -q").exitCode, 0);
+  const std::string run = " --quiet --no-plots";
+
+  const test::CliResult wide = runBcassim(dir, "assimilate wide.yaml --out wide" + run);
+  ASSERT_EQ(wide.exitCode, 0) << wide.err;
+  const std::string notices = test::readText(dir / "wide" / "notices.txt");
+  const std::string begins =
+      "wide.yaml: assimilation step 1 (t = 0.01 s): implicit Euler at t = 0 s: element ";
+  const std::string ends =
+      "(time.min_dt = 0.01 s allows no halving); the step's forecasts were redone with the sigma "
+      "points at 1/2 of their spread from the mean\n";
+  EXPECT_EQ(notices.substr(0, begins.size()), begins) << notices;
+  ASSERT_GE(notices.size(), ends.size()) << notices;
+  EXPECT_EQ(notices.substr(notices.size() - ends.size()), ends) << notices;
+  EXPECT_EQ(std::count(notices.begin(), notices.end(), '\n'), 1) << notices;
+
+  ASSERT_EQ(runBcassim(dir, "assimilate narrow.yaml --out narrow" + run).exitCode, 0);
+  EXPECT_EQ(test::readText(dir / "narrow" / "notices.txt"), "");
+  const double a = finalEstimate(dir / "wide" / "estimates.csv");
+  const double b = finalEstimate(dir / "narrow" / "estimates.csv");
+  EXPECT_NEAR(a, b, 1e-3 * b);
+  EXPECT_GT(a, 4000.0);  // moved from the prior towards the truth (8,000 Pa)
+
+  const test::CliResult never = runBcassim(dir, "assimilate never.yaml --out never" + run);
+  EXPECT_EQ(never.exitCode, 3);
+  const std::string stops =
+      "bcassim: error: never.yaml: assimilation step 1 (t = 0.01 s), a forecast: element ";
+  EXPECT_EQ(never.err.substr(0, stops.size()), stops) << never.err;
+  EXPECT_EQ(never.err.find("tries"), std::string::npos) << never.err;
+}
+
+TEST(AssimilationCli, ForecastRetriesAreACountFrom0To20) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, sectionWith("  forecast_retries: -1\n")),
+              "scene.yaml:7: assimilation.forecast_retries: must be >= 0, got -1");
+  expectError(assimilate(dir, sectionWith("  forecast_retries: 21\n")),
+              "scene.yaml:7: assimilation.forecast_retries: must be <= 20 (the sigma points at "
+              "1/2^20 of their spread), got 21");
 }
 
 TEST(AssimilationCli, UnknownFilter) {

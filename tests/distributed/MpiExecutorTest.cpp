@@ -263,5 +263,44 @@ TEST(MpiExecutor, ADeadRankDuringAUkfStepIsOneLineAndResumeFinishesTheRun) {
   expectDeadRankLineAndResume(kMpiUkf, true, "ranks 1, 2");
 }
 
+// A cantilever pulled by 10 N with a prior of 4,000 ± 3,500 Pa and star points (centre, ±): one
+// sigma point per rank, and the one at the low modulus, on a worker, inverts an element even at
+// time.min_dt. The worker answers the failure and serves the step again with the points pulled
+// in: the same estimates and the same notice as the threaded run.
+TEST(MpiExecutor, AForecastFailedOnAWorkerIsRedoneOnEveryRank) {
+  const auto dir = freshDir();
+  const std::string beam =
+      "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
+      "fixed: [{region: {box: {min: [-1, -1, -1], max: [0.001, 1, 1]}}}]\n"
+      "loads: [{region: {box: {min: [0.099, -1, -1], max: [1, 1, 1]}}, "
+      "total_force: [0, -10, 0]}]\n"
+      "markers:\n  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
+      "time: {dt: 0.01, steps: 3, min_dt: 0.01}\n"
+      "output: {pvd: false}\n";
+  writeText(dir / "truth.yaml", beam);
+  writeText(dir / "estimate.yaml",
+            beam +
+                "assimilation:\n  sigma_points: star\n  reuse_factorization: false\n"
+                "  parameters:\n    - {young_modulus: {region: 0}, mean: 4000, stddev: 3500}\n"
+                "  observations: {tracks: truth/markers.csv}\n");
+  ASSERT_EQ(runBcassim(dir, "simulate truth.yaml --out truth -q").exitCode, 0);
+  const std::string run = "assimilate estimate.yaml -q --no-plots ";
+  const test::CliResult alone = runBcassim(dir, run + "--out t1 --threads 1");
+  ASSERT_EQ(alone.exitCode, 0) << alone.err;
+  const test::CliResult three = runMpiBcassim(dir, 3, run + "--out m3 --threads 1 --mpi");
+  ASSERT_EQ(three.exitCode, 0) << three.err;
+  const std::string notices = readText(dir / "t1" / "notices.txt");
+  EXPECT_NE(notices.find("the step's forecasts were redone with the sigma points at 1/2 of "
+                         "their spread from the mean\n"),
+            std::string::npos)
+      << notices;
+  // Rank 0 names the worker whose forecast failed; the rest of the line is the same.
+  const std::string ranked = readText(dir / "m3" / "notices.txt");
+  EXPECT_NE(ranked.find(": MPI rank "), std::string::npos) << ranked;
+  EXPECT_EQ(std::count(ranked.begin(), ranked.end(), '\n'),
+            std::count(notices.begin(), notices.end(), '\n'));
+  EXPECT_EQ(readText(dir / "t1" / "estimates.csv"), readText(dir / "m3" / "estimates.csv"));
+}
+
 }  // namespace
 }  // namespace bcassim

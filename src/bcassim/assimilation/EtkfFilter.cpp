@@ -30,6 +30,7 @@ EtkfFilter::EtkfFilter(StochasticState layout, std::vector<ForecastModel*> model
       rng_(options_.seed) {
   const StochasticState& s = ensemble_.layout();
   if (options_.relinearizations < 0) throw InputError("relinearizations must be >= 0");
+  if (options_.forecastRetries < 0) throw InputError("forecast retries must be >= 0");
   if (options_.members < 2)
     throw InputError(fmt::format("ETKF needs at least 2 members, got {}", options_.members));
   if (options_.processVariance.size() != 0 && options_.processVariance.size() != s.size())
@@ -81,14 +82,17 @@ FilterStepReport EtkfFilter::step(const Observation& y) {
   // Prediction (Alg. 3 lines 13-20).
   Eigen::MatrixXd Xf, O, Z;
   const auto forecastStart = Clock::now();
-  ensemble_.forecast(members_, Xf, O);
+  const Eigen::VectorXd equal = Eigen::VectorXd::Constant(N, 1.0 / static_cast<double>(N));
+  const ForecastRetries retried =
+      ensemble_.forecastRetrying(members_, equal, options_.forecastRetries, Xf, O);
+  report.forecastHalvings = retried.halvings;
+  report.forecastFailure = retried.failure;
   report.seconds.forecast = secondsSince(forecastStart);
 
   const auto correctionStart = Clock::now();
   x_ = Xf.rowwise().mean();
   Eigen::MatrixXd Xp = Xf.colwise() - x_;
   if (inflate && !inflateFirst) Xp += inflation();
-  const Eigen::VectorXd equal = Eigen::VectorXd::Constant(N, 1.0 / static_cast<double>(N));
   Observation used = ensemble_.predict(y, equal, O, Z);
   members_ = Xp.colwise() + x_;
 

@@ -24,6 +24,11 @@ struct FilterOptions {
   // correspondences flickering near the robust threshold do not keep the passes going.
   int relinearizations = 0;
   double relinearizationTolerance = 0.1;
+  // A step whose forecasts fail (a model step that failed even at its smallest time step: an
+  // element inverted by a sigma point far out in the parameters) is redone with every point
+  // halfway to the mean, up to this many times (ForecastEnsemble::forecastRetrying). When they
+  // are spent (0: at the first failure) the step ends with the model's own error.
+  int forecastRetries = 3;
   // Shares each step's forecasts with other processes (ForecastDistribution.h); null: all here.
   // Not owned; must outlive the filter.
   ForecastDistribution* distribution = nullptr;

@@ -2,6 +2,7 @@
 // repairs and timings (SPEC §2 "outputs per step").
 #pragma once
 #include <Eigen/Core>
+#include <string>
 
 namespace bcassim {
 
@@ -31,6 +32,10 @@ struct FilterStepReport {
   // Covariance factorisations repaired with jitter this step, and the largest jitter.
   int covarianceRepairs = 0;
   double largestJitter = 0.0;
+  // Times the step's forecasts were redone closer to the mean (FilterOptions::forecastRetries),
+  // and the failure that made the first retry (empty when none).
+  int forecastHalvings = 0;
+  std::string forecastFailure;
   StepSeconds seconds;
 };
 

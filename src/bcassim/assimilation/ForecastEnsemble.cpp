@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <exception>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -57,9 +58,53 @@ void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& 
   observables.resize(observableSize_, columns);
   // The other processes' columns leave first, so that they run while these do.
   const int s = distribution_ ? distribution_->localColumns(columns) : columns;
-  if (s < columns) distribution_->send(points);
-  forecastColumns(s, points, forecasts, observables);
-  if (s < columns) distribution_->receive(forecasts, observables);
+  if (s == columns) {
+    forecastColumns(s, points, forecasts, observables);
+    return;
+  }
+  distribution_->send(points);
+  // The other processes' answers are taken in even when a forecast here failed, so that the
+  // processes stay in step for whatever comes next (a retry of the step, or the end).
+  std::exception_ptr failed;
+  try {
+    forecastColumns(s, points, forecasts, observables);
+  } catch (...) {
+    failed = std::current_exception();
+  }
+  distribution_->receive(forecasts, observables);
+  if (failed) std::rethrow_exception(failed);
+}
+
+ForecastRetries ForecastEnsemble::forecastRetrying(const Eigen::MatrixXd& points,
+                                                   const Eigen::VectorXd& weights, int retries,
+                                                   Eigen::MatrixXd& forecasts,
+                                                   Eigen::MatrixXd& observables) {
+  ForecastRetries done;
+  const Eigen::VectorXd centre = points * weights;
+  double spread = 1.0;
+  for (;;) {
+    try {
+      if (done.halvings == 0) {
+        forecast(points, forecasts, observables);
+        return done;
+      }
+      const Eigen::MatrixXd closer = (spread * (points.colwise() - centre)).colwise() + centre;
+      forecast(closer, forecasts, observables);
+      break;
+    } catch (const NumericalError& e) {
+      if (done.halvings == 0) done.failure = e.what();
+      if (done.halvings == retries) throw;  // the model's own error, as the caller knows it
+      ++done.halvings;
+      spread /= 2;
+    }
+  }
+  const auto stretch = [&](Eigen::MatrixXd& m) {
+    const Eigen::VectorXd mean = m * weights;
+    m = ((m.colwise() - mean) / spread).colwise() + mean;
+  };
+  stretch(forecasts);
+  stretch(observables);
+  return done;
 }
 
 void ForecastEnsemble::forecastHere(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,

@@ -3,6 +3,7 @@
 // through the step's ObservationOperator, linearised at the forecasts' mean.
 #pragma once
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "bcassim/assimilation/Executor.h"
@@ -12,6 +13,13 @@
 #include "bcassim/assimilation/StochasticState.h"
 
 namespace bcassim {
+
+// What ForecastEnsemble::forecastRetrying had to do: the halvings of the points' spread (0: the
+// first try served) and the first failure's message.
+struct ForecastRetries {
+  int halvings = 0;
+  std::string failure;
+};
 
 class ForecastEnsemble {
  public:
@@ -34,6 +42,18 @@ class ForecastEnsemble {
   // the other processes, the same way.
   void forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,
                 Eigen::MatrixXd& observables);
+  // forecast() that survives a failed forecast: when one throws NumericalError (a model step
+  // that failed even at its smallest time step: an element inverted by a sigma point far out in
+  // the parameters), every point is moved halfway to the points' mean (`weights`, summing to 1)
+  // and all are forecast again, up to `retries` times. The forecasts' and the observables'
+  // deviations from their means are then stretched back by the same factor: exact for a linear
+  // model (a scaled unscented transform of spread 2^-k), so the filter's covariance keeps its
+  // meaning and only the curvature the far points would have seen is lost. Returns the
+  // halvings the step needed and the first failure's message. When the retries are spent,
+  // rethrows the last failure as the model threw it.
+  ForecastRetries forecastRetrying(const Eigen::MatrixXd& points, const Eigen::VectorXd& weights,
+                                   int retries, Eigen::MatrixXd& forecasts,
+                                   Eigen::MatrixXd& observables);
   // The same for every column here, whatever the distribution: a process forecasting the sigma
   // points it formed itself (a distributed UKF covariance, UkfCovariance.h).
   void forecastHere(const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,

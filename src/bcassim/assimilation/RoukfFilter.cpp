@@ -40,6 +40,8 @@ RoukfFilter::RoukfFilter(StochasticState layout, std::vector<ForecastModel*> mod
     if (!q.isZero(0.0)) processVariance_ = q.tail(s.parameterCount());
   }
   if (options.relinearizations < 0) throw InputError("relinearizations must be >= 0");
+  if (options.forecastRetries < 0) throw InputError("forecast retries must be >= 0");
+  forecastRetries_ = options.forecastRetries;
   relinearizations_ = options.relinearizations;
   relinearizationTolerance_ = options.relinearizationTolerance;
   const Eigen::VectorXd sd = s.initialStddev();
@@ -114,7 +116,10 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
   const Eigen::MatrixXd X = sigma_.points(x_, sqrtFactor(L_, U_, repairs));
   Eigen::MatrixXd Xf, O, Z;
   const auto forecastStart = Clock::now();
-  ensemble_.forecast(X, Xf, O);
+  const ForecastRetries retried =
+      ensemble_.forecastRetrying(X, sigma_.weights, forecastRetries_, Xf, O);
+  report.forecastHalvings = retried.halvings;
+  report.forecastFailure = retried.failure;
   report.seconds.forecast = secondsSince(forecastStart);
 
   const auto correctionStart = Clock::now();

@@ -61,6 +61,7 @@ class RoukfFilter final : public Filter {
   SigmaPointSet sigma_;
   Eigen::VectorXd processVariance_;  // parameters' part of RoukfOptions::processVariance
   int relinearizations_ = 0;
+  int forecastRetries_ = 3;
   double relinearizationTolerance_ = 0.1;
   Eigen::VectorXd x_;
   Eigen::MatrixXd L_;

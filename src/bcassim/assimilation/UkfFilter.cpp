@@ -21,6 +21,7 @@ UkfFilter::UkfFilter(StochasticState layout, std::vector<ForecastModel*> models,
   const StochasticState& s = ensemble_.layout();
   if (options_.relinearizations < 0) throw InputError("relinearizations must be >= 0");
   const Eigen::Index n = s.size();
+  if (options_.forecastRetries < 0) throw InputError("forecast retries must be >= 0");
   if (!(options_.spread > 0.0) || !std::isfinite(options_.spread))
     throw InputError(
         fmt::format("UKF sigma-point spread must be positive, got {}", options_.spread));
@@ -62,13 +63,26 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   // Prediction (Alg. 1 lines 9-14).
   Eigen::MatrixXd O, Z;
   const auto forecastStart = Clock::now();
-  P_->forecast(ensemble_, sigma_, x_, options_.spread, O, repairs);
+  // A failed forecast is redone with the points closer to the mean (FilterOptions::
+  // forecastRetries): the scaled transform's spread halved, its deviations divided by it.
+  double spread = options_.spread;
+  for (;;) {
+    try {
+      P_->forecast(ensemble_, sigma_, x_, spread, O, repairs);
+      break;
+    } catch (const NumericalError& e) {
+      if (report.forecastHalvings == 0) report.forecastFailure = e.what();
+      if (report.forecastHalvings == options_.forecastRetries) throw;  // the model's own error
+      ++report.forecastHalvings;
+      spread /= 2;
+    }
+  }
   report.seconds.forecast = secondsSince(forecastStart);
 
   const auto correctionStart = Clock::now();
   const Eigen::VectorXd& w = sigma_.weights;
-  const double unscale = 1.0 / options_.spread;
-  P_->moments(sigma_, options_.spread, x_);
+  const double unscale = 1.0 / spread;
+  P_->moments(sigma_, spread, x_);
   if (options_.processVariance.size() != 0 && !noiseFirst)
     P_->addToDiagonal(options_.processVariance);
   Observation used = ensemble_.predict(y, w, O, Z);

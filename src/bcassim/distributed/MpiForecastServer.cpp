@@ -76,6 +76,13 @@ void MpiForecastServer::answerError() const {
            "answering rank 0");
 }
 
+// A numerical failure belongs to one step's forecasts: rank 0 may redo the step with its sigma
+// points closer to the mean (ForecastEnsemble::forecastRetrying), so this rank serves again. Any
+// other failure (and any before the set-up ended) is answered to every later command.
+void MpiForecastServer::forgetStepFailure(const ForecastEnsemble* ensemble) {
+  if (ensemble && failure_ && failure_->first == proto::kNumericalError) failure_.reset();
+}
+
 void MpiForecastServer::answerForecasts(const Eigen::MatrixXd& forecasts,
                                         const Eigen::MatrixXd& observables) const {
   sendAnswer({proto::kOk, static_cast<std::int32_t>(forecasts.rows()),
@@ -150,6 +157,7 @@ void MpiForecastServer::serveCovariance(const proto::Header& h, ForecastEnsemble
   }
   if (failure_) {
     answerError();
+    forgetStepFailure(ensemble);
     return;
   }
   answerForecasts(Eigen::MatrixXd(0, observables.cols()), observables);
@@ -196,6 +204,7 @@ void MpiForecastServer::serveUntilStop(ForecastEnsemble* ensemble) {
     }
     if (failure_) {
       answerError();
+      forgetStepFailure(ensemble);
       continue;
     }
     answerForecasts(forecasts, observables);

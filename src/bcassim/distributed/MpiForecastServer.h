@@ -33,11 +33,13 @@ class MpiForecastServer {
   // The collectives of a UKF covariance kept over the ranks (kUkfSetUp ... kUkfCorrect).
   void serveCovariance(const mpi_protocol::Header& h, ForecastEnsemble* ensemble);
   void answerError() const;
+  void forgetStepFailure(const ForecastEnsemble* ensemble);
   void answerForecasts(const Eigen::MatrixXd& forecasts, const Eigen::MatrixXd& observables) const;
 
   int rank_, ranks_;
-  int killAtStep_ = -1;                                          // BCASSIM_TEST_MPI_KILL
-  std::optional<std::pair<std::int32_t, std::string>> failure_;  // answered to every forecast
+  int killAtStep_ = -1;  // BCASSIM_TEST_MPI_KILL
+  std::optional<std::pair<std::int32_t, std::string>>
+      failure_;  // answered to every forecast (see forgetStepFailure)
   std::unique_ptr<UkfCovarianceShare> share_;
 };
 

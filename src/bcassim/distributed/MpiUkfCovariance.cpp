@@ -1,5 +1,6 @@
 #include "bcassim/distributed/MpiUkfCovariance.h"
 
+#include <exception>
 #include <stdexcept>
 
 #include "bcassim/Stopwatch.h"
@@ -60,12 +61,20 @@ void MpiUkfCovariance::forecast(ForecastEnsemble& ensemble, const SigmaPointSet&
   distribution_.tellWorkers(proto::kUkfForecast, n_, s, payload);
   const Eigen::MatrixXd X = share_.drawPoints(x, spread, repairs);
   Eigen::MatrixXd forecasts, own;
-  ensemble.forecastHere(X, forecasts, own);
-  share_.keepForecasts(std::move(forecasts));
-  observables.resize(own.rows(), s);
-  observables.leftCols(own.cols()) = own;
+  // The workers' answers are taken in even when a forecast here failed, so that every rank is
+  // ready for what comes next (a retry of the step, or the end).
+  std::exception_ptr failed;
+  try {
+    ensemble.forecastHere(X, forecasts, own);
+    share_.keepForecasts(std::move(forecasts));
+  } catch (...) {
+    failed = std::current_exception();
+  }
+  observables.resize(ensemble.observableSize(), s);
+  if (!failed) observables.leftCols(own.cols()) = own;
   Eigen::MatrixXd none(0, s);  // the workers keep their forecasts
   distribution_.receive(none, observables);
+  if (failed) std::rethrow_exception(failed);
   // Steps after the first (the first faults in its buffers): what a step costs for the model.
   if (++draws_ == 1) return;
   MpiTransferStats& t = distribution_.stats_;

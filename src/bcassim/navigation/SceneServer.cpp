@@ -54,6 +54,9 @@ class ServeConnection {
     open();
     return *publisher_;
   }
+  void log(const std::string& line) const {
+    if (log_) log_(line);
+  }
   // Frames received and refused, the camera's period and the latencies into the report.
   void report(ServeReport& r) const {
     if (!opened_) return;
@@ -98,6 +101,7 @@ ServeReport serveSynchronously(const Scene& scene, const ServeOptions& o,
                                    current ? current->stamp : connection.intake().stampOf(p.step),
                                    p.hidden, *p.nodePositions, answered);
   };
+  stream.notice = [&](const std::string& line) { connection.log(line); };
   ServeReport report;
   report.assimilation = runAssimilation(scene, o.outDir, {}, false, &stream);
   connection.report(report);
@@ -202,6 +206,7 @@ ServeReport serveAsynchronously(const Scene& scene, const ServeOptions& o,
   AssimilationStream stream;
   stream.frame = [&](int step) { return handoff.frame(step); };
   stream.publish = [&](const StepPublication& p) { handoff.published(p); };
+  stream.notice = [&](const std::string& line) { connection.log(line); };
   ServeReport report;
   std::exception_ptr runnerFailure;
   std::thread runner([&] {

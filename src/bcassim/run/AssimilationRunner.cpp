@@ -206,6 +206,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
       o.firstSigmaPointAlone = false;
       o.observation = observation;
       o.relinearizations = relinearizations;
+      o.forecastRetries = s.forecastRetries;
       o.distribution = distribution;
       o.sigmaPoints = s.sigmaPoints;
       o.spread = s.sigmaSpread;
@@ -217,6 +218,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
       o.firstSigmaPointAlone = false;
       o.observation = observation;
       o.relinearizations = relinearizations;
+      o.forecastRetries = s.forecastRetries;
       o.distribution = distribution;
       o.sigmaPoints = s.sigmaPoints;
       o.processVariance = process;
@@ -227,6 +229,7 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
       o.firstSigmaPointAlone = false;
       o.observation = observation;
       o.relinearizations = relinearizations;
+      o.forecastRetries = s.forecastRetries;
       o.distribution = distribution;
       o.members = s.members;
       o.seed = s.seed;
@@ -562,13 +565,30 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
   try {
     report = setup.filter->step(y);
   } catch (const StepFailure& e) {
-    // A sigma point's forecast failed even with its step halved to the floor: the run stops
-    // here, with the checkpoint of the last output step to resume from.
-    throw NumericalError(fmt::format("{}: assimilation step {} (t = {:.6g} s), a forecast: {}",
-                                     scene.sourceFile, step, time, e.detail()));
+    // A sigma point's forecast failed even with its step halved to the floor, and again with
+    // the points pulled in (assimilation.forecast_retries): the run stops here, with the
+    // checkpoint of the last output step to resume from.
+    const std::string retried =
+        s.forecastRetries == 0
+            ? ""
+            : fmt::format(" (the last of {} tries, the sigma points at 1/{} of their spread)",
+                          s.forecastRetries + 1, 1 << s.forecastRetries);
+    throw NumericalError(fmt::format("{}: assimilation step {} (t = {:.6g} s), a forecast: {}{}",
+                                     scene.sourceFile, step, time, e.detail(), retried));
   } catch (const NumericalError& e) {
     throw NumericalError(fmt::format("{}: assimilation step {} (t = {:.6g} s): {}",
                                      scene.sourceFile, step, time, e.what()));
+  }
+  if (report.forecastHalvings > 0) {
+    // The step went on closer to the mean: said once per step, with the failure that started it.
+    const std::string line = fmt::format(
+        "{}: assimilation step {} (t = {:.6g} s): {}; the step's forecasts were redone with the "
+        "sigma points at 1/{} of their spread from the mean",
+        scene.sourceFile, step, time, report.forecastFailure, 1 << report.forecastHalvings);
+    files.notices << line << '\n';
+    flushOrThrow(files.notices, files.noticesPath);
+    loop.result.notices.push_back(line);
+    if (stream && stream->notice) stream->notice(line);
   }
   ForecastStats cost;
   for (const auto& m : setup.models) cost += m->takeStats();

@@ -4,6 +4,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace bcassim {
@@ -43,6 +44,9 @@ struct AssimilationStream {
   std::function<StreamedFrame(int step)> frame;
   // Called once per step after it, with the step's predictions.
   std::function<void(const StepPublication&)> publish;
+  // Called with each notice the run writes to notices.txt as it goes (a step redone closer to
+  // the mean), so that a live log shows it too; may be empty.
+  std::function<void(const std::string&)> notice;
 };
 
 }  // namespace bcassim

@@ -94,6 +94,9 @@ struct AssimilationSettings {
   double inflation = 0.0;    // std of the additive noise on each parameter per step (unconstrained)
   std::uint64_t seed = 1;    // observation noise and etkf draws
   int threads = 1;           // executor workers
+  // A step whose forecasts fail (a sigma point inverts an element even at time.min_dt) is redone
+  // with the points halfway to the mean, up to this many times (FilterOptions::forecastRetries).
+  int forecastRetries = 3;
   bool carryPositions = true;
   bool carryVelocities = true;
   bool reuseFactorization = true;  // thesis Alg. 4/5: factorized-pcg sharing worker 0's factor

@@ -54,6 +54,7 @@ const std::vector<std::string> kAssimilationKeys = {"filter",
                                                     "inflation",
                                                     "seed",
                                                     "threads",
+                                                    "forecast_retries",
                                                     "state",
                                                     "reuse_factorization",
                                                     "tangent",
@@ -387,6 +388,10 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.inflation = r.number("inflation", 0.0, "-", Range::NonNegative);
   s.seed = static_cast<std::uint64_t>(r.integer("seed", 1));
   s.threads = r.integer("threads", 1, Range::AtLeastOne);
+  s.forecastRetries = r.integer("forecast_retries", s.forecastRetries, Range::NonNegative);
+  if (s.forecastRetries > 20)
+    r.fail("forecast_retries", "must be <= 20 (the sigma points at 1/2^20 of their spread), got " +
+                                   std::to_string(s.forecastRetries));
   MapReader state(src, r.node("state"), r.pathOf("state"), {"positions", "velocities"});
   // A static frame is a function of the parameters alone: nothing mechanical to carry.
   s.carryPositions = state.boolean("positions", !c.statics);
