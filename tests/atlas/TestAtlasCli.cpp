@@ -71,6 +71,9 @@ TEST(AtlasCli, DistancePrintsTheVarifoldDistanceAndBadInputIsOneLine) {
   const CliRun alone = runCli(dir, "atlas loo . --ridge-on-held-out");
   EXPECT_EQ(alone.code, 2);
   EXPECT_EQ(alone.err, "bcassim: error: --ridge-on-held-out: needs --ridge\n");
+  const CliRun none = runCli(dir, "atlas loo . --nearest 5,0");
+  EXPECT_EQ(none.code, 2);
+  EXPECT_EQ(none.err, "bcassim: error: --nearest 0: expected a count >= 1\n");
   const CliRun noAtlas = runCli(dir, "atlas transfer nowhere a.obj");
   EXPECT_EQ(noAtlas.code, 2);
   EXPECT_NE(noAtlas.err.find("nowhere: expected an atlas folder"), std::string::npos)

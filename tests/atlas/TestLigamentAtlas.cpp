@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -326,6 +327,32 @@ TEST(AtlasLeaveOneOut, ScaleAlignmentMeasuresInTheSubjectsOwnSize) {
   EXPECT_GE(r.folds[0].distance.planes, 5);
   EXPECT_LT(r.folds[0].distance.planeMean, 1e-3);
   EXPECT_NEAR(r.folds[1].distance.planeMean, 4.0 * d / 3.0, 1.5e-3);
+}
+
+TEST(AtlasLeaveOneOut, NearestShapesLeaveTheOddOneOut) {
+  // The fourth organ (curve at x = 0) 30 % larger, not size-normalised: its registered template is
+  // the farthest in shape from the others. Holding out the second (curve at -d), its 2 nearest
+  // shapes are the template and the third (curves at 0 and +d): mean d/2, error 3d/2, where all
+  // three give d/3 and 4d/3. Every training liver (3, or more asked) is the plain fold.
+  const double d = 0.009;
+  const std::vector<AtlasSubject> s = fourOrgans(d, 1.3);
+  LeaveOneOutOptions o = foldsOfFourOrgans();
+  o.heldOut = {1};
+  o.nearestCounts = {2, 3, 5};
+  const LeaveOneOutResult r = leaveOneOut(s, o);
+  ASSERT_EQ(r.folds.size(), 1u);
+  const LeaveOneOutFold& f = r.folds[0];
+  ASSERT_EQ(f.nearest.size(), 3u);
+  ASSERT_EQ(f.nearestBand.size(), 3u);
+  EXPECT_NEAR(f.distance.planeMean, 4.0 * d / 3.0, 1.5e-3);
+  EXPECT_NEAR(f.nearest[0].planeMean, 3.0 * d / 2.0, 1.5e-3);
+  EXPECT_GT(f.nearest[0].planeMean, f.distance.planeMean + 0.5 * (3.0 / 2.0 - 4.0 / 3.0) * d);
+  for (int k : {1, 2}) {
+    EXPECT_EQ(f.nearest[static_cast<size_t>(k)].planes, f.distance.planes);
+    EXPECT_NEAR(f.nearest[static_cast<size_t>(k)].planeMean, f.distance.planeMean, 1e-12);
+  }
+  std::printf("all three: %.4g mm, the 2 nearest: %.4g mm\n", 1e3 * f.distance.planeMean,
+              1e3 * f.nearest[0].planeMean);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
 #include "bcassim/atlas/FrechetMeanAtlas.h"
@@ -162,6 +164,21 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     om.centre = CurveCentre::Mean;
     const CurveAtlas meanAtlas = ligamentCurveAtlas(templ, others, om);
     f.plainMean = compare(h, predict(h, meanAtlas, deformedHeld[h]), meanAtlas.planes);
+    if (!o.nearestCounts.empty()) {
+      std::vector<std::pair<double, int>> byShape;
+      for (int i = 0; i < n; ++i)
+        if (i != h) byShape.emplace_back((deformed[i] - deformedHeld[h]).squaredNorm(), i);
+      std::sort(byShape.begin(), byShape.end());
+      for (int k : o.nearestCounts) {
+        std::vector<Eigen::MatrixX3d> nearest;
+        for (size_t j = 0; j < byShape.size() && static_cast<int>(j) < k; ++j)
+          nearest.push_back(carried[static_cast<size_t>(byShape[j].second)]);
+        const CurveAtlas a = ligamentCurveAtlas(templ, nearest, o.atlas);
+        const Eigen::MatrixX3d p = predict(h, a, deformedHeld[h]);
+        f.nearest.push_back(compare(h, p, a.planes));
+        f.nearestBand.push_back(compare(h, p, a.planes, true));
+      }
+    }
     // No plane crossed by both curves: the per-plane distance is undefined, not 0 mm.
     const auto perPlane = [](const CurveDistance& d) {
       return d.planes == 0 ? std::string("no plane shared, distance undefined")

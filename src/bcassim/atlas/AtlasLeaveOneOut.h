@@ -33,6 +33,11 @@ struct LeaveOneOutOptions {
   // unless ridgeOnHeldOut (a patient whose ridge is labelled or detected).
   bool ridge = false;
   bool ridgeOnHeldOut = false;
+  // Also, for each k here, the fold's atlas from the k training livers nearest in shape to the
+  // held-out one: the RMS distance between their deformed templates (the template's vertices
+  // carried onto each, so in correspondence; the held-out one's from its surface alone) —
+  // LeaveOneOutFold::nearest, in this order.
+  std::vector<int> nearestCounts;
 };
 
 struct LeaveOneOutFold {
@@ -44,6 +49,8 @@ struct LeaveOneOutFold {
   CurveDistance plainMean;  // LDDMM, per-plane mean of all crossings (the thesis' centre)
   CurveDistance band;       // distance, against the expert's whole annotated band (planes = 0
                             // when the subject has no band)
+  std::vector<CurveDistance> nearest;      // per LeaveOneOutOptions::nearestCounts: distance
+  std::vector<CurveDistance> nearestBand;  // and band, with the k nearest livers' atlas
 };
 
 struct LeaveOneOutResult {

@@ -461,7 +461,8 @@ class AtlasTransferCommand : public Command {
 
 // Writes loo.csv (one row per fold) into out and prints the means over the folds.
 void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubject>& subjects,
-                       double planeStep, const fs::path& out, double seconds) {
+                       double planeStep, const std::vector<int>& nearestCounts, const fs::path& out,
+                       double seconds) {
   fs::create_directories(out);
   std::ofstream f(out / "loo.csv");
   f << "liver,planes,mean_mm,max_mm,point_mean_mm,point_max_mm,rigid_only_mean_mm,"
@@ -539,6 +540,31 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
         "{:.1f} mm, mean of max {:.1f} mm, worst liver {:.1f} mm\n",
         bandCounted, 1e3 * sumBand / bandCounted, 1e3 * sumBandMax / bandCounted, 1e3 * worstBand);
   }
+  // The atlases of the nearest shapes, over the same folds.
+  const size_t kinds = r.folds.empty() ? 0 : r.folds.front().nearest.size();
+  for (size_t k = 0; k < kinds; ++k) {
+    int planesShared = 0, bandShared = 0;
+    double sum = 0, sumMax = 0, largest = 0, band = 0;
+    for (const LeaveOneOutFold& fold : r.folds) {
+      const CurveDistance& d = fold.nearest[k];
+      if (d.planes > 0) {
+        ++planesShared;
+        sum += d.planeMean;
+        sumMax += d.planeMax;
+        largest = std::max(largest, d.planeMean);
+      }
+      if (fold.nearestBand[k].planes > 0) {
+        ++bandShared;
+        band += fold.nearestBand[k].planeMean;
+      }
+    }
+    fmt::print(
+        "atlas of the {} nearest shapes: {} livers share a plane: mean {:.1f} mm, mean of max "
+        "{:.1f} mm, worst liver {:.1f} mm; against the whole band ({} livers) {:.1f} mm\n",
+        nearestCounts[k], planesShared, 1e3 * sum / std::max(planesShared, 1),
+        1e3 * sumMax / std::max(planesShared, 1), 1e3 * largest, bandShared,
+        1e3 * band / std::max(bandShared, 1));
+  }
   fmt::print("registrations {:.0f} s ({:.1f} s each), total {:.0f} s; wrote {}\n", regSeconds,
              regSeconds / static_cast<double>(subjects.size()), seconds,
              (out / "loo.csv").string());
@@ -582,6 +608,12 @@ class AtlasLooCommand : public Command {
                  "With --ridge: align and register the held-out liver with its ridge too (a "
                  "patient whose ridge is labelled or detected; without it, from its surface "
                  "alone)");
+    app.add_option("--nearest", nearest_,
+                   "Also report, for each count K given, every fold's atlas made from the K "
+                   "training livers nearest in shape to the held-out one (by the distance "
+                   "between their registered templates, which are in correspondence), e.g. "
+                   "--nearest 5,10,20")
+        ->delimiter(',');
     reg_.add(app);
     addThreadsOption(app, threads_, kRegistrationThreads, false);
   }
@@ -590,6 +622,8 @@ class AtlasLooCommand : public Command {
     const TbbThreadLimit limit(threads_);
     const auto t0 = Clock::now();
     if (ridgeOnHeldOut_ && !ridge_) throw InputError("--ridge-on-held-out: needs --ridge");
+    for (int k : nearest_)
+      if (k < 1) throw InputError(fmt::format("--nearest {}: expected a count >= 1", k));
     LiverFolder livers = readAnnotatedLivers(dir_, label_, scale_);
     for (const std::string& s : livers.skipped) fmt::print("skipped {}\n", s);
     if (maxLivers_ > 0 && static_cast<int>(livers.subjects.size()) > maxLivers_)
@@ -612,6 +646,7 @@ class AtlasLooCommand : public Command {
     o.templateIterations = templateIterations_;
     o.ridge = ridge_;
     o.ridgeOnHeldOut = ridgeOnHeldOut_;
+    o.nearestCounts = nearest_;
     o.atlas.registration.curveWeight = ridgeWeight_;
     if (!templ_.empty()) {
       o.templateSubject = -1;
@@ -631,7 +666,7 @@ class AtlasLooCommand : public Command {
       fmt::print("{}\n", s);
       std::fflush(stdout);
     });
-    reportLeaveOneOut(r, livers.subjects, planeStep_, fs::path(out_), secondsSince(t0));
+    reportLeaveOneOut(r, livers.subjects, planeStep_, nearest_, fs::path(out_), secondsSince(t0));
     return 0;
   }
 
@@ -645,6 +680,7 @@ class AtlasLooCommand : public Command {
   bool ridge_ = false, ridgeOnHeldOut_ = false;
   double ridgeWeight_ = 1.0;
   int templateIterations_ = 60;
+  std::vector<int> nearest_;
   RegistrationFlags reg_;
   int threads_ = 0;
 };
