@@ -8,10 +8,12 @@
 #include <Eigen/QR>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "bcassim/assimilation/ForecastModel.h"
 #include "bcassim/assimilation/Observation.h"
+#include "bcassim/assimilation/StochasticState.h"
 
 namespace bcassim::testing {
 
@@ -99,6 +101,19 @@ class ExactKalman {
   Eigen::MatrixXd F_, Hf_;
   int step_ = 0;
 };
+
+// The linear system's prior: state (0.2, -0.1, 0) with `physicalSigma` on each entry, parameters
+// a = 0.5 ± 0.4 and b = 0 ± 0.3; and the exact Kalman filter started from it.
+inline StochasticState linearLayout(double physicalSigma) {
+  return StochasticState(Eigen::Vector3d(0.2, -0.1, 0.0), Eigen::Vector3d::Constant(physicalSigma),
+                         {{"a", 0.5, 0.4, {}}, {"b", 0.0, 0.3, {}}});
+}
+
+inline ExactKalman exactFor(const LinearSystem& s, const StochasticState& layout,
+                            Eigen::VectorXd q = {}) {
+  return ExactKalman(s, layout.initialMean(),
+                     layout.initialStddev().array().square().matrix().asDiagonal(), std::move(q));
+}
 
 // Observation frames of a true run: noise sigma; frame 3 misses entries 1 and 3 (NaN there), frame
 // 5 is empty, the others are complete.

@@ -16,7 +16,9 @@
 
 namespace bcassim {
 namespace {
+using testing::exactFor;
 using testing::ExactKalman;
+using testing::linearLayout;
 using testing::LinearModel;
 using testing::LinearSystem;
 
@@ -50,16 +52,6 @@ class FailingFarOut final : public ForecastModel {
   int calls_ = 0;
 };
 
-StochasticState linearLayout() {
-  return StochasticState(Eigen::Vector3d(0.2, -0.1, 0.0), Eigen::Vector3d::Constant(0.1),
-                         {{"a", 0.5, 0.4, {}}, {"b", 0.0, 0.3, {}}});
-}
-
-ExactKalman exactFor(const LinearSystem& s, const StochasticState& layout) {
-  return ExactKalman(s, layout.initialMean(),
-                     layout.initialStddev().array().square().matrix().asDiagonal());
-}
-
 // The three filters on the same model and prior (the ETKF's members carry the prior's moments
 // exactly, so that it too is the Kalman filter).
 std::unique_ptr<Filter> makeFilter(const std::string& kind, const StochasticState& layout,
@@ -91,7 +83,7 @@ std::unique_ptr<Filter> makeFilter(const std::string& kind, const StochasticStat
 TEST(ForecastRetry, FailedForecastsRedoneCloserToTheMeanKeepEveryFilterExact) {
   const LinearSystem s = LinearSystem::make();
   const auto frames = testing::linearFrames(s, kThetaTrue, kSteps, 0.05);
-  const StochasticState layout = linearLayout();
+  const StochasticState layout = linearLayout(0.1);
   for (const std::string kind : {"roukf", "ukf", "etkf"}) {
     // The prior's points reach about 0.4 * sqrt(5) = 0.9 from the mean in parameter a: 0.3 fails
     // them at full spread.
@@ -125,7 +117,7 @@ TEST(ForecastRetry, WithoutRetriesTheModelsOwnErrorEndsTheStep) {
   for (const std::string kind : {"roukf", "ukf", "etkf"}) {
     FailingFarOut model(s, 0.5, 0.3);
     SerialExecutor serial;
-    auto filter = makeFilter(kind, linearLayout(), model, serial, 0);
+    auto filter = makeFilter(kind, linearLayout(0.1), model, serial, 0);
     try {
       filter->step(frames[0]);
       ADD_FAILURE() << kind << ": no error";
@@ -141,7 +133,7 @@ TEST(ForecastRetry, SpentRetriesEndTheStepWithTheModelsOwnError) {
   for (const std::string kind : {"roukf", "ukf", "etkf"}) {
     FailingFarOut model(s, 0.5, 1e-6);  // fails unless the points sit on the mean
     SerialExecutor serial;
-    auto filter = makeFilter(kind, linearLayout(), model, serial, 2);
+    auto filter = makeFilter(kind, linearLayout(0.1), model, serial, 2);
     try {
       filter->step(frames[0]);
       ADD_FAILURE() << kind << ": no error";
@@ -158,7 +150,7 @@ TEST(ForecastRetry, NegativeRetriesAreRefused) {
   SerialExecutor serial;
   for (const std::string kind : {"roukf", "ukf", "etkf"}) {
     try {
-      makeFilter(kind, linearLayout(), model, serial, -1);
+      makeFilter(kind, linearLayout(0.1), model, serial, -1);
       ADD_FAILURE() << kind << ": accepted";
     } catch (const InputError& e) {
       EXPECT_STREQ(e.what(), "forecast retries must be >= 0") << kind;

@@ -12,22 +12,14 @@
 
 namespace bcassim {
 namespace {
+using testing::exactFor;
 using testing::ExactKalman;
+using testing::linearLayout;
 using testing::LinearModel;
 using testing::LinearSystem;
 
 constexpr int kSteps = 8;
 const Eigen::Vector2d kThetaTrue(1.0, -0.5);
-
-StochasticState linearLayout(double physicalSigma) {
-  return StochasticState(Eigen::Vector3d(0.2, -0.1, 0.0), Eigen::Vector3d::Constant(physicalSigma),
-                         {{"a", 0.5, 0.4, {}}, {"b", 0.0, 0.3, {}}});
-}
-
-ExactKalman exactFor(const LinearSystem& s, const StochasticState& layout, Eigen::VectorXd q = {}) {
-  return ExactKalman(s, layout.initialMean(),
-                     layout.initialStddev().array().square().matrix().asDiagonal(), std::move(q));
-}
 
 // Runs filter and exact KF side by side and checks mean and covariance after every step.
 void expectExact(Filter& filter, ExactKalman& kf, const std::vector<Observation>& frames,

@@ -99,15 +99,7 @@ double finalEstimate(const std::filesystem::path& estimates) {
 // Without retries the run stops at that step.
 TEST(AssimilationCli, AFailedForecastIsRedoneCloserToTheMeanAndTheRunGoesOn) {
   const auto dir = freshDir();
-  const std::string beam =
-      "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
-      "fixed: [{region: {box: {min: [-1, -1, -1], max: [0.001, 1, 1]}}}]\n"
-      "loads: [{region: {box: {min: [0.099, -1, -1], max: [1, 1, 1]}}, "
-      "total_force: [0, -10, 0]}]\n"
-      "markers:\n"
-      "  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
-      "time: {dt: 0.01, steps: 3, min_dt: 0.01}\n"
-      "output: {pvd: false}\n";
+  const std::string beam = test::pulledCantileverScene();
   const auto estimate = [&](const std::string& options, double stddev) {
     return beam + "assimilation:\n" + options +
            fmt::format(

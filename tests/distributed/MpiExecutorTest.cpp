@@ -269,14 +269,7 @@ TEST(MpiExecutor, ADeadRankDuringAUkfStepIsOneLineAndResumeFinishesTheRun) {
 // in: the same estimates and the same notice as the threaded run.
 TEST(MpiExecutor, AForecastFailedOnAWorkerIsRedoneOnEveryRank) {
   const auto dir = freshDir();
-  const std::string beam =
-      "mesh: {generator: box, size: [0.1, 0.02, 0.02], cells: [4, 1, 1]}\n"
-      "fixed: [{region: {box: {min: [-1, -1, -1], max: [0.001, 1, 1]}}}]\n"
-      "loads: [{region: {box: {min: [0.099, -1, -1], max: [1, 1, 1]}}, "
-      "total_force: [0, -10, 0]}]\n"
-      "markers:\n  - points: [[0.1, 0.01, 0.01], [0.05, 0.01, 0.01]]\n"
-      "time: {dt: 0.01, steps: 3, min_dt: 0.01}\n"
-      "output: {pvd: false}\n";
+  const std::string beam = test::pulledCantileverScene();
   writeText(dir / "truth.yaml", beam);
   writeText(dir / "estimate.yaml",
             beam +
