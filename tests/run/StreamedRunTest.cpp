@@ -13,6 +13,7 @@
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/run/SimulationRunner.h"
 #include "bcassim/scene/SceneLoader.h"
+#include "support/BentBeamScene.h"
 #include "support/PulledCylinderScene.h"
 #include "support/TestFiles.h"
 
@@ -94,6 +95,32 @@ TEST(StreamedRun, SameFilesAsTheTracksFileAndEndsWhenTheStreamDoes) {
   // Steps 0..10, two points each, plus the header.
   EXPECT_EQ(std::count(ended.begin(), ended.end(), '\n'), 1 + 11 * 2);
   EXPECT_EQ(full.substr(0, ended.size()), ended);
+}
+
+// A step redone closer to the mean (the pulled cantilever's low-modulus sigma point inverts an
+// element) is said to the stream as it is written to notices.txt: `bcassim serve` logs it live.
+TEST(StreamedRun, NoticesReachTheStreamAsTheyAreWritten) {
+  const auto dir = freshDir();
+  runSimulation(loadSceneFromString(test::pulledCantileverScene(), "truth.yaml", dir.string()),
+                (dir / "truth").string());
+  const Scene scene =
+      loadSceneFromString(test::pulledCantileverScene() +
+                              "assimilation:\n  parameters:\n"
+                              "    - {young_modulus: {region: 0}, mean: 4000, stddev: 3500}\n"
+                              "  observations: {tracks: truth/markers.csv}\n",
+                          "estimate.yaml", dir.string());
+  const TrackFrames& tracks = scene.assimilation->observations.tracks;
+  AssimilationStream stream;
+  stream.frame = [&](int step) {
+    return StreamedFrame{StreamedFrame::Kind::Observed, tracks.frames[static_cast<size_t>(step)]};
+  };
+  stream.publish = [](const StepPublication&) {};
+  std::string said;
+  stream.notice = [&](const std::string& line) { said += line + "\n"; };
+  runAssimilation(scene, (dir / "streamed").string(), {}, false, &stream);
+  const std::string written = readText(dir / "streamed" / "notices.txt");
+  EXPECT_NE(written.find("the step's forecasts were redone"), std::string::npos) << written;
+  EXPECT_EQ(said, written);
 }
 
 TEST(StreamedRun, ModelErrorIsGrowsOrConstant) {
