@@ -38,8 +38,8 @@ class MpiForecastServer {
 
   int rank_, ranks_;
   int killAtStep_ = -1;  // BCASSIM_TEST_MPI_KILL
-  std::optional<std::pair<std::int32_t, std::string>>
-      failure_;  // answered to every forecast (see forgetStepFailure)
+  // Answered to every forecast; a numerical one only to the step's (forgetStepFailure).
+  std::optional<std::pair<std::int32_t, std::string>> failure_;
   std::unique_ptr<UkfCovarianceShare> share_;
 };
 
