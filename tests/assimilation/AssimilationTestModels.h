@@ -102,6 +102,10 @@ class ExactKalman {
   int step_ = 0;
 };
 
+// The linear system's runs: steps and true parameters.
+inline constexpr int kLinearSteps = 8;
+inline const Eigen::Vector2d kLinearTheta(1.0, -0.5);
+
 // The linear system's prior: state (0.2, -0.1, 0) with `physicalSigma` on each entry, parameters
 // a = 0.5 ± 0.4 and b = 0 ± 0.3; and the exact Kalman filter started from it.
 inline StochasticState linearLayout(double physicalSigma) {

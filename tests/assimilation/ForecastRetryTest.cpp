@@ -18,12 +18,11 @@ namespace bcassim {
 namespace {
 using testing::exactFor;
 using testing::ExactKalman;
+using testing::kLinearSteps;
+using testing::kLinearTheta;
 using testing::linearLayout;
 using testing::LinearModel;
 using testing::LinearSystem;
-
-constexpr int kSteps = 8;
-const Eigen::Vector2d kThetaTrue(1.0, -0.5);
 
 // The linear model, failing like an integrator that gave up on a step (StepFailure is a
 // NumericalError) whenever parameter 0 is more than `reach` from the last analysed mean's.
@@ -82,7 +81,7 @@ std::unique_ptr<Filter> makeFilter(const std::string& kind, const StochasticStat
 
 TEST(ForecastRetry, FailedForecastsRedoneCloserToTheMeanKeepEveryFilterExact) {
   const LinearSystem s = LinearSystem::make();
-  const auto frames = testing::linearFrames(s, kThetaTrue, kSteps, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearTheta, kLinearSteps, 0.05);
   const StochasticState layout = linearLayout(0.1);
   for (const std::string kind : {"roukf", "ukf", "etkf"}) {
     // The prior's points reach about 0.4 * sqrt(5) = 0.9 from the mean in parameter a: 0.3 fails
@@ -107,13 +106,13 @@ TEST(ForecastRetry, FailedForecastsRedoneCloserToTheMeanKeepEveryFilterExact) {
     }
     // The prior's spread fails, the analysed one (a few steps later) no longer does.
     EXPECT_GE(retriedSteps, 1) << kind;
-    EXPECT_LT(retriedSteps, kSteps) << kind;
+    EXPECT_LT(retriedSteps, kLinearSteps) << kind;
   }
 }
 
 TEST(ForecastRetry, WithoutRetriesTheModelsOwnErrorEndsTheStep) {
   const LinearSystem s = LinearSystem::make();
-  const auto frames = testing::linearFrames(s, kThetaTrue, 1, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearTheta, 1, 0.05);
   for (const std::string kind : {"roukf", "ukf", "etkf"}) {
     FailingFarOut model(s, 0.5, 0.3);
     SerialExecutor serial;
@@ -129,7 +128,7 @@ TEST(ForecastRetry, WithoutRetriesTheModelsOwnErrorEndsTheStep) {
 
 TEST(ForecastRetry, SpentRetriesEndTheStepWithTheModelsOwnError) {
   const LinearSystem s = LinearSystem::make();
-  const auto frames = testing::linearFrames(s, kThetaTrue, 1, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearTheta, 1, 0.05);
   for (const std::string kind : {"roukf", "ukf", "etkf"}) {
     FailingFarOut model(s, 0.5, 1e-6);  // fails unless the points sit on the mean
     SerialExecutor serial;
@@ -141,6 +140,50 @@ TEST(ForecastRetry, SpentRetriesEndTheStepWithTheModelsOwnError) {
       EXPECT_STREQ(e.what(), "element 7 inverted at the time step 1e-05 s") << kind;
     }
     EXPECT_EQ(model.calls(), 3) << kind;  // the first try and two retries, each failing at once
+  }
+}
+
+// A model's own error type (as the integrators' StepFailure), thrown where the step ends.
+class MeansStepFailure : public NumericalError {
+ public:
+  using NumericalError::NumericalError;
+};
+
+class FailingAtTheMean final : public ForecastModel {
+ public:
+  explicit FailingAtTheMean(const LinearSystem& s) : inner_(s) {}
+  Eigen::Index stateSize() const override { return inner_.stateSize(); }
+  Eigen::Index observableSize() const override { return inner_.observableSize(); }
+  void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
+                Eigen::VectorXd& newState, Eigen::VectorXd& predicted) override {
+    inner_.forecast(state, params, newState, predicted);
+  }
+  void endStep(const Eigen::VectorXd&, const Eigen::VectorXd&) override {
+    throw MeansStepFailure("static solver at t = 0 s: Newton did not converge");
+  }
+
+ private:
+  LinearModel inner_;
+};
+
+// The end of a step is not a forecast: its failure is named for the analysed mean and loses the
+// model's type, which a runner reads as a sigma point's (and would say "after N tries").
+TEST(ForecastRetry, AFailureAtTheAnalysedMeanIsNotAForecasts) {
+  const LinearSystem s = LinearSystem::make();
+  const auto frames = testing::linearFrames(s, kLinearTheta, 1, 0.05);
+  for (const std::string kind : {"roukf", "ukf", "etkf"}) {
+    FailingAtTheMean model(s);
+    SerialExecutor serial;
+    auto filter = makeFilter(kind, linearLayout(0.1), model, serial, 3);
+    try {
+      filter->step(frames[0]);
+      ADD_FAILURE() << kind << ": no error";
+    } catch (const MeansStepFailure&) {
+      ADD_FAILURE() << kind << ": the model's type came through";
+    } catch (const NumericalError& e) {
+      EXPECT_STREQ(e.what(), "the analysed mean: static solver at t = 0 s: Newton did not converge")
+          << kind;
+    }
   }
 }
 

@@ -14,12 +14,11 @@ namespace bcassim {
 namespace {
 using testing::exactFor;
 using testing::ExactKalman;
+using testing::kLinearSteps;
+using testing::kLinearTheta;
 using testing::linearLayout;
 using testing::LinearModel;
 using testing::LinearSystem;
-
-constexpr int kSteps = 8;
-const Eigen::Vector2d kThetaTrue(1.0, -0.5);
 
 // Runs filter and exact KF side by side and checks mean and covariance after every step.
 void expectExact(Filter& filter, ExactKalman& kf, const std::vector<Observation>& frames,
@@ -37,7 +36,7 @@ void expectExact(Filter& filter, ExactKalman& kf, const std::vector<Observation>
 
 TEST(LinearGaussian, UkfWithEverySigmaPointSetIsTheExactKalmanFilter) {
   const LinearSystem s = LinearSystem::make();
-  const auto frames = testing::linearFrames(s, kThetaTrue, kSteps, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearTheta, kLinearSteps, 0.05);
   struct Case {
     const char* name;
     SigmaPointKind kind;
@@ -66,7 +65,7 @@ TEST(LinearGaussian, UkfWithEverySigmaPointSetIsTheExactKalmanFilter) {
 
 TEST(LinearGaussian, UkfWithProcessNoiseOnParametersIsTheExactKalmanFilter) {
   const LinearSystem s = LinearSystem::make();
-  const auto frames = testing::linearFrames(s, kThetaTrue, kSteps, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearTheta, kLinearSteps, 0.05);
   LinearModel model(s);
   SerialExecutor serial;
   UkfOptions options;
@@ -80,7 +79,7 @@ TEST(LinearGaussian, UkfWithProcessNoiseOnParametersIsTheExactKalmanFilter) {
 
 TEST(LinearGaussian, RoukfIsTheExactKalmanFilterAtFullAndReducedRank) {
   const LinearSystem s = LinearSystem::make();
-  const auto frames = testing::linearFrames(s, kThetaTrue, kSteps, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearTheta, kLinearSteps, 0.05);
   // Uncertain physical part: rank 5 = the whole state. Known physical part: rank 2 = parameters,
   // and the exact filter's covariance has that rank too.
   for (double physicalSigma : {0.1, 0.0}) {
@@ -104,7 +103,7 @@ TEST(LinearGaussian, RoukfIsTheExactKalmanFilterAtFullAndReducedRank) {
 // Kalman analysis, step after step (it is a square-root filter, not a Monte Carlo estimate).
 TEST(LinearGaussian, EtkfWithExactPriorMomentsIsTheExactKalmanFilter) {
   const LinearSystem s = LinearSystem::make();
-  const auto frames = testing::linearFrames(s, kThetaTrue, kSteps, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearTheta, kLinearSteps, 0.05);
   const StochasticState layout = linearLayout(0.1);
   const SigmaPointSet simplex = simplexSigmaPoints(layout.size());
   const double N = static_cast<double>(simplex.count());
@@ -124,7 +123,7 @@ TEST(LinearGaussian, EtkfWithExactPriorMomentsIsTheExactKalmanFilter) {
 
 TEST(LinearGaussian, EtkfConvergesToTheKalmanFilterAsTheEnsembleGrows) {
   const LinearSystem s = LinearSystem::make();
-  const auto frames = testing::linearFrames(s, kThetaTrue, kSteps, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearTheta, kLinearSteps, 0.05);
   const StochasticState layout = linearLayout(0.1);
   ExactKalman kf = exactFor(s, layout);
   for (const Observation& y : frames) kf.step(y);

@@ -17,6 +17,9 @@
 namespace bcassim {
 namespace {
 using testing::ExactKalman;
+using testing::kLinearSteps;
+using testing::kLinearTheta;
+using testing::linearLayout;
 using testing::LinearSystem;
 
 // The linear model whose observable is the state itself: H lives in the operator.
@@ -67,13 +70,6 @@ class DroppingOperator final : public ObservationOperator {
   Eigen::MatrixXd H_;
 };
 
-constexpr int kLinearSteps = 8;
-const Eigen::Vector2d kLinearThetaTrue(1.0, -0.5);
-
-StochasticState linearStateLayout(double physicalSigma) {
-  return StochasticState(Eigen::Vector3d(0.2, -0.1, 0.0), Eigen::Vector3d::Constant(physicalSigma),
-                         {{"a", 0.5, 0.4, {}}, {"b", 0.0, 0.3, {}}});
-}
 
 // Steps `filter` and the exact KF side by side; the KF corrects with the frame the operator
 // returned, and the operator was linearised at the KF's own predicted state.
@@ -82,7 +78,7 @@ void expectExactThroughOperator(Filter& filter, DroppingOperator& op, const Line
                                 const std::string& name) {
   ExactKalman kf(s, layout.initialMean(),
                  layout.initialStddev().array().square().matrix().asDiagonal());
-  const auto frames = testing::linearFrames(s, kLinearThetaTrue, kLinearSteps, 0.05);
+  const auto frames = testing::linearFrames(s, kLinearTheta, kLinearSteps, 0.05);
   for (size_t i = 0; i < frames.size(); ++i) {
     const FilterStepReport report = filter.step(frames[i]);
     const bool data = frames[i].values.size() > 0;
@@ -103,7 +99,7 @@ void expectExactThroughOperator(Filter& filter, DroppingOperator& op, const Line
 
 TEST(ObservationOperator, LinearisedAtTheForecastMeanEveryFilterIsTheExactKalmanFilter) {
   const LinearSystem s = LinearSystem::make();
-  const StochasticState layout = linearStateLayout(0.1);
+  const StochasticState layout = linearLayout(0.1);
   {
     StateObservingModel model(s);
     DroppingOperator op(s.H);
@@ -390,7 +386,7 @@ TEST(ObservationOperator, RoukfRefusesProcessNoiseOnThePhysicalPart) {
   RoukfOptions o;
   o.processVariance = (Eigen::VectorXd(5) << 0, 1e-3, 0, 1e-3, 0).finished();
   try {
-    RoukfFilter roukf(linearStateLayout(0.0), {&model}, serial, o);
+    RoukfFilter roukf(linearLayout(0.0), {&model}, serial, o);
     FAIL() << "accepted";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),

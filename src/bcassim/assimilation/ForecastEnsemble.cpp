@@ -163,7 +163,13 @@ void ForecastEnsemble::endStep(const Eigen::VectorXd& mean) {
   Eigen::VectorXd params;
   layout_.physicalParameters(mean, params);
   if (distribution_) distribution_->endStep(mean);
-  for (ForecastModel* model : models_) model->endStep(state, params);
+  // Not a forecast's failure (a static model solving the mean's own equilibrium, say): named so,
+  // and no longer of the model's type, which callers read as a forecast's.
+  try {
+    for (ForecastModel* model : models_) model->endStep(state, params);
+  } catch (const NumericalError& e) {
+    throw NumericalError(fmt::format("the analysed mean: {}", e.what()));
+  }
 }
 
 }  // namespace bcassim

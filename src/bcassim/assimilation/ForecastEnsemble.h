@@ -73,6 +73,7 @@ class ForecastEnsemble {
 
   // Tells every model, in worker order, that the step ended at the analysed mean (unconstrained);
   // the distribution's first, so that the other processes move on while these do.
+  // A model's NumericalError comes out as a NumericalError "the analysed mean: ...".
   void endStep(const Eigen::VectorXd& mean);
 
  private:
