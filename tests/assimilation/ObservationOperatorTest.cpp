@@ -70,7 +70,6 @@ class DroppingOperator final : public ObservationOperator {
   Eigen::MatrixXd H_;
 };
 
-
 // Steps `filter` and the exact KF side by side; the KF corrects with the frame the operator
 // returned, and the operator was linearised at the KF's own predicted state.
 void expectExactThroughOperator(Filter& filter, DroppingOperator& op, const LinearSystem& s,
