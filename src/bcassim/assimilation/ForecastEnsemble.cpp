@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <exception>
+#include <functional>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -75,22 +76,14 @@ void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& 
   if (failed) std::rethrow_exception(failed);
 }
 
-ForecastRetries ForecastEnsemble::forecastRetrying(const Eigen::MatrixXd& points,
-                                                   const Eigen::VectorXd& weights, int retries,
-                                                   Eigen::MatrixXd& forecasts,
-                                                   Eigen::MatrixXd& observables) {
+ForecastRetries retryCloserToTheMean(int retries, const std::function<void(double spread)>& attempt,
+                                     double& spread) {
   ForecastRetries done;
-  const Eigen::VectorXd centre = points * weights;
-  double spread = 1.0;
+  spread = 1.0;
   for (;;) {
     try {
-      if (done.halvings == 0) {
-        forecast(points, forecasts, observables);
-        return done;
-      }
-      const Eigen::MatrixXd closer = (spread * (points.colwise() - centre)).colwise() + centre;
-      forecast(closer, forecasts, observables);
-      break;
+      attempt(spread);
+      return done;
     } catch (const NumericalError& e) {
       if (done.halvings == 0) done.failure = e.what();
       if (done.halvings == retries) throw;  // the model's own error, as the caller knows it
@@ -98,6 +91,25 @@ ForecastRetries ForecastEnsemble::forecastRetrying(const Eigen::MatrixXd& points
       spread /= 2;
     }
   }
+}
+
+ForecastRetries ForecastEnsemble::forecastRetrying(const Eigen::MatrixXd& points,
+                                                   const Eigen::VectorXd& weights, int retries,
+                                                   Eigen::MatrixXd& forecasts,
+                                                   Eigen::MatrixXd& observables) {
+  double spread = 1.0;
+  ForecastRetries done = retryCloserToTheMean(
+      retries,
+      [&](double k) {
+        if (k == 1.0) {
+          forecast(points, forecasts, observables);
+          return;
+        }
+        const Eigen::VectorXd centre = points * weights;  // only once a forecast has failed
+        forecast((k * (points.colwise() - centre)).colwise() + centre, forecasts, observables);
+      },
+      spread);
+  if (done.halvings == 0) return done;
   const auto stretch = [&](Eigen::MatrixXd& m) {
     const Eigen::VectorXd mean = m * weights;
     m = ((m.colwise() - mean) / spread).colwise() + mean;

@@ -3,6 +3,7 @@
 // through the step's ObservationOperator, linearised at the forecasts' mean.
 #pragma once
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,13 @@ struct ForecastRetries {
   int halvings = 0;
   std::string failure;
 };
+
+// The retry policy of a step's forecasts, for every filter: attempt(spread) with spread 1, 1/2,
+// 1/4, ... (the points' distance from the mean, relative to their own) until one returns without
+// a NumericalError, at most retries + 1 calls; the last failure is rethrown as it was. `spread`
+// ends at the one that served.
+ForecastRetries retryCloserToTheMean(int retries, const std::function<void(double spread)>& attempt,
+                                     double& spread);
 
 class ForecastEnsemble {
  public:

@@ -64,19 +64,15 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   Eigen::MatrixXd O, Z;
   const auto forecastStart = Clock::now();
   // A failed forecast is redone with the points closer to the mean (FilterOptions::
-  // forecastRetries): the scaled transform's spread halved, its deviations divided by it.
-  double spread = options_.spread;
-  for (;;) {
-    try {
-      P_->forecast(ensemble_, sigma_, x_, spread, O, repairs);
-      break;
-    } catch (const NumericalError& e) {
-      if (report.forecastHalvings == 0) report.forecastFailure = e.what();
-      if (report.forecastHalvings == options_.forecastRetries) throw;  // the model's own error
-      ++report.forecastHalvings;
-      spread /= 2;
-    }
-  }
+  // forecastRetries): the scaled transform's spread reduced, its deviations divided by it.
+  double scale = 1.0;
+  const ForecastRetries retried = retryCloserToTheMean(
+      options_.forecastRetries,
+      [&](double k) { P_->forecast(ensemble_, sigma_, x_, options_.spread * k, O, repairs); },
+      scale);
+  report.forecastHalvings = retried.halvings;
+  report.forecastFailure = retried.failure;
+  const double spread = options_.spread * scale;
   report.seconds.forecast = secondsSince(forecastStart);
 
   const auto correctionStart = Clock::now();
