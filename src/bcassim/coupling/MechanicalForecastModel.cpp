@@ -57,9 +57,9 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
       throw std::invalid_argument(
           "MechanicalForecastModel: meanTangent needs a SharedFactorization");
     if (worker_ == 0) buildMeanTangent();
-    // Static frames give a build N frames before they adopt it (refreshMeanTangent), so a slow
-    // first build costs them no wait; the warm-up would cost three stiffness factorisations.
-    if (worker_ == 0 && options_.tangentInBackground && !statics_) warmUpBuilder();
+    // Static frames too: their builds have N frames, but a cold one took twice as long (page
+    // faults) and made every other adoption wait on the mestdagh liver.
+    if (worker_ == 0 && options_.tangentInBackground) warmUpBuilder();
   }
 }
 
@@ -237,6 +237,9 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
   if (worker_ == 0) {
     shared_->factor = shared_->next;
     const double t = reference_.t + integrator_.options().dt;
+    // A build due at the end of this frame serves its mean already: the mean's chord, which
+    // stalls as its tangent ages, is the frame's cost (the sigma points took the older one).
+    if (options_.meanTangent) adoptBuildIfDue(shared_->stepsSinceTangent + 1);
     if (!chordMean(t)) {
       solveStatic(reference_, t);
       // The tangent did not serve: a new one at this equilibrium, whatever the schedule.
@@ -254,30 +257,42 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
 }
 
 // The analysed mean's equilibrium by chord iterations with the mean's tangent, from the previous
-// one. Where they stall after getting closer, the tangent is rebuilt at their last iterate (the
-// tangent had grown too far from this frame's: it is then the new mean tangent) and they go on
-// once. False (reference_ untouched) where that does not converge either, or a step inverts an
-// element: Newton solves it then.
+// one. Where they get closer but not close enough, they go on with the same tangent if their
+// contraction so far says that a second round reaches the tolerance (a few more steps cost less
+// than a factorisation); otherwise, or if that round does not converge either, the tangent is
+// rebuilt at their last iterate (it had grown too far from this frame's: it is then the new mean
+// tangent) and they go on once. False (reference_ untouched) where that does not converge either,
+// or a step inverts an element: Newton solves it then.
 bool MechanicalForecastModel::chordMean(double t) {
-  if (!options_.meanTangent || !shared_->tangent) return false;
   constexpr int kChordIterations = 10;
+  meanChordSteps_ = kChordIterations + 1;
+  if (!options_.meanTangent || !shared_->tangent) return false;
   const auto start = Clock::now();
   Eigen::VectorXd x = reference_.x;
   bool converged = false;
-  for (int attempt = 0; attempt < 2 && !converged; ++attempt) {
-    try {
+  bool continued = false;
+  bool rebuilt = false;
+  meanChordSteps_ = 0;
+  try {
+    for (;;) {
       const StaticReport report = statics_->chordSolve(
           model_, t, x, *shared_->tangent, kChordIterations, true, options_.meanThreads);
       stats_.linearIterations += report.iterations;
+      meanChordSteps_ += report.iterations;
       converged = report.converged;
-      if (converged || attempt == 1 || !(report.residualNorm < report.initialResidualNorm)) break;
+      if (converged || rebuilt || !(report.residualNorm < report.initialResidualNorm)) break;
+      if (!continued && chordStepsToGo(report) <= kChordIterations) {
+        continued = true;
+        continue;
+      }
       MechanicalState at = reference_;
       at.x = x;
       at.t = t;
       rebuildMeanTangentAt(at);
-    } catch (const NumericalError&) {
-      break;
+      rebuilt = true;
     }
+  } catch (const NumericalError&) {
+    converged = false;
   }
   stats_.solveSeconds += secondsSince(start);
   if (!converged) {
@@ -382,21 +397,13 @@ void MechanicalForecastModel::refreshMeanTangent() {
   // B + N - 1 steps old (N = tangentRefreshEvery): older elastic tangents can make the step
   // unstable (docs/liver.md), so dynamic steps adopt after one step unless told otherwise.
   // Static frames have no such instability (the mean is solved to equilibrium): their build is
-  // adopted when the next one is due, so that it has N frames to finish on the other core.
-  const int adoptAfter = options_.tangentBackgroundSteps > 0 ? options_.tangentBackgroundSteps
-                         : statics_                          ? options_.tangentRefreshEvery
-                                                             : 1;
-  if (pendingTangent_.valid() && shared_->stepsSinceTangent >= adoptAfter) {
-    const auto waitStart = Clock::now();
-    pendingTangent_.wait();
-    stats_.tangentWaitSeconds += secondsSince(waitStart);
-    try {
-      adoptTangent(pendingTangent_.get());
-    } catch (const NumericalError&) {
-      ++stats_.tangentFailures;
-    }
-  }
-  if (!due) return;
+  // adopted when the next one is due, so that it has N frames to finish on the other core, and
+  // at the start of that frame's mean solve (staticEndStep), which it serves already.
+  adoptBuildIfDue(shared_->stepsSinceTangent);
+  // A static tangent that still solved the mean in one chord step (two: the second mends a
+  // single-precision solve's rounding) is exact there, as a linear law's always is: a new one
+  // would cost a factorisation and change nothing. An aged Neo-Hookean one takes 4-10.
+  if (!due || (statics_ && meanChordSteps_ <= 2)) return;
   if (!options_.tangentInBackground) {
     buildMeanTangent();
     return;
@@ -412,6 +419,22 @@ void MechanicalForecastModel::refreshMeanTangent() {
   pendingTangent_ = builder_->submit([this, analysis = shared_->tangent] {
     return makeTangent(*tangentModel_, tangentState_, analysis ? &analysis->factor() : nullptr);
   });
+}
+
+// The background build, once it has had its steps (`stepsSince` counts the step that is ending).
+void MechanicalForecastModel::adoptBuildIfDue(int stepsSince) {
+  const int adoptAfter = options_.tangentBackgroundSteps > 0 ? options_.tangentBackgroundSteps
+                         : statics_                          ? options_.tangentRefreshEvery
+                                                             : 1;
+  if (!pendingTangent_.valid() || stepsSince < adoptAfter) return;
+  const auto waitStart = Clock::now();
+  pendingTangent_.wait();
+  stats_.tangentWaitSeconds += secondsSince(waitStart);
+  try {
+    adoptTangent(pendingTangent_.get());
+  } catch (const NumericalError&) {
+    ++stats_.tangentFailures;
+  }
 }
 
 void MechanicalForecastModel::restoreReference(const MechanicalState& reference,

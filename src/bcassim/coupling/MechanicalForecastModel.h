@@ -151,6 +151,7 @@ class MechanicalForecastModel final : public ForecastModel {
   void buildMeanTangent();
   void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);
   void refreshMeanTangent();
+  void adoptBuildIfDue(int stepsSince);
   void warmUpBuilder();
 
   MechanicalModel model_;
@@ -171,6 +172,7 @@ class MechanicalForecastModel final : public ForecastModel {
   Eigen::VectorXd meanParams_;  // the analysed parameters of the last endStep
   MechanicalState tangentState_;
   std::future<std::shared_ptr<const FrozenTangent>> pendingTangent_;
+  int meanChordSteps_ = 0;  // the chord steps of the last static mean's solve (worker 0)
   std::unique_ptr<BackgroundThread> builder_;  // the thread every background build runs on
 };
 

@@ -31,6 +31,18 @@ struct StaticSolver::Increments {
   Eigen::VectorXd fext, fint, g, dx, trial;
 };
 
+int chordStepsToGo(const StaticReport& report) {
+  constexpr int kUnknown = std::numeric_limits<int>::max();
+  if (report.iterations < 2 || !(report.tolerance > 0) ||
+      !(report.residualNorm > report.tolerance) || !(report.initialResidualNorm > 0))
+    return kUnknown;
+  const double rate =
+      std::log(report.residualNorm / report.initialResidualNorm) / (report.iterations - 1);
+  if (!(rate < 0)) return kUnknown;
+  const double steps = std::ceil(std::log(report.tolerance / report.residualNorm) / rate);
+  return steps < kUnknown ? static_cast<int>(steps) : kUnknown;
+}
+
 StaticSolver::StaticSolver(const MechanicalModel& model, std::unique_ptr<LinearSolver> solver,
                            StaticOptions options)
     : solver_(std::move(solver)), options_(options), K_(model.pattern->emptyMatrix()) {
@@ -234,6 +246,7 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
           fmt::format("non-finite residual at chord iteration {}", report.iterations));
     const double tolerance = std::max(options_.relativeTolerance * reference,
                                       forceRoundOff(tangent.stiffnessDiagonalNorm(), x));
+    report.tolerance = tolerance;
     const bool placed = !chordKnown_.any();
     if (norm <= tolerance && placed) {
       report.converged = true;

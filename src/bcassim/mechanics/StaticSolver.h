@@ -31,7 +31,13 @@ struct StaticReport {
   int retries = 0;          // load increments that failed and were redone as two halves
   double residualNorm = 0;  // N, |f_int - f_ext| on the free dofs at the end
   double initialResidualNorm = 0;  // N, the same at the start (chordSolve)
+  double tolerance = 0;            // N, the residual aimed at (chordSolve)
 };
+
+// The chord steps a chordSolve that stopped short would still need to reach its tolerance, at the
+// contraction its steps had on average (its residual is the one before its last step, so this
+// errs long); INT_MAX where it did not contract or cannot tell (fewer than two steps).
+int chordStepsToGo(const StaticReport& report);
 
 class StaticSolver {
  public:
