@@ -2,10 +2,12 @@
 // buildStatic): they reach Newton's equilibrium from another one, prescribed motion included; for
 // the linear law one step from the tangent's own state is the exact solution; springs with other
 // coefficients than the tangent's are exact through the low-rank correction; a chord that cannot
-// converge says so instead of returning a half-solved state; a step that inverts an element throws.
+// converge says so instead of returning a half-solved state, and one cut short how many steps it
+// still needs; a step that inverts an element throws.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "FemTestHelpers.h"
 #include "bcassim/mechanics/ChunkedForces.h"
@@ -118,6 +120,39 @@ TEST(StaticChord, AChordThatCannotConvergeSaysSo) {
   }
   EXPECT_FALSE(report.converged);
   EXPECT_GT(report.residualNorm, 0.0);
+}
+
+// A chord cut short says how many more steps it needs at the contraction it had (its residual is
+// the one before its last step, so the count errs long): that many from where it stopped reach
+// the equilibrium. A converged, a one-step or a diverging chord cannot tell (INT_MAX).
+TEST(StaticChord, ItsStepsToGoAreEnoughToFinishACutShortChord) {
+  const MechanicalModel model = chordCylinder("neohookean");
+  const Eigen::VectorXd before = newtonAt(model, 1.0);
+  const auto tangent =
+      FrozenTangent::buildStatic(model, {before, Eigen::VectorXd::Zero(before.size()), 1.0});
+  StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+  Eigen::VectorXd x = before;
+  const StaticReport cut = chord.chordSolve(model, 1.4, x, *tangent, 3);
+  ASSERT_FALSE(cut.converged);
+  ASSERT_LT(cut.residualNorm, cut.initialResidualNorm);
+  const int toGo = chordStepsToGo(cut);
+  ASSERT_GT(toGo, 0);
+  ASSERT_LT(toGo, 30);
+  const StaticReport rest = chord.chordSolve(model, 1.4, x, *tangent, toGo);
+  EXPECT_TRUE(rest.converged) << toGo << " steps to go, " << rest.residualNorm << " N left";
+  EXPECT_EQ(chordStepsToGo(rest), std::numeric_limits<int>::max());  // converged
+
+  StaticReport made;  // r0 = 1 N, 1e-4 N before the 5th step: 1e-1 per step; 2e-6 N asked
+  made.iterations = 5;
+  made.initialResidualNorm = 1;
+  made.residualNorm = 1e-4;
+  made.tolerance = 2e-6;
+  EXPECT_EQ(chordStepsToGo(made), 2);
+  made.iterations = 1;
+  EXPECT_EQ(chordStepsToGo(made), std::numeric_limits<int>::max());
+  made.iterations = 5;
+  made.residualNorm = 2;  // it grew
+  EXPECT_EQ(chordStepsToGo(made), std::numeric_limits<int>::max());
 }
 
 TEST(StaticChord, AStepThatInvertsAnElementThrows) {

@@ -9,8 +9,10 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <numeric>
 #include <sstream>
 
+#include "bcassim/io/CsvTable.h"
 #include "bcassim/mechanics/StaticSolver.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 #include "bcassim/mesh/BoundarySurface.h"
@@ -152,6 +154,86 @@ TEST(PointCloudForce, TheMeansChordGivesTheSameEstimatesOnAnyThreadCount) {
       EXPECT_EQ(results[t].parameters[i].stddev, results[0].parameters[i].stddev) << t + 1;
     }
   EXPECT_LE(std::abs(results[0].parameters[1].mean + 0.04), 0.004);  // N: the force's y
+}
+
+// The factorisations of each step in a run's timing.csv.
+std::vector<double> factorizationsPerStep(const fs::path& run) {
+  const CsvTable t = readCsvTable((run / "timing.csv").string());
+  const int c = t.column("factorizations");
+  EXPECT_GE(c, 0);
+  std::vector<double> out;
+  for (Eigen::Index r = 0; c >= 0 && r < t.rows.rows(); ++r) out.push_back(t.rows(r, c));
+  return out;
+}
+
+// Static frames with tangent: mean, the force growing frame by frame. With tangent_background the
+// mean tangents built on their own thread serve the mean (timing.csv counts them from step 2 on),
+// the force is followed as closely as with the tangent rebuilt in the frame, and the estimates
+// are the same on 1 and 2 threads. A linear law's tangent is exact everywhere: the mean's chord
+// takes one step and the tangent is never rebuilt, whatever tangent_refresh_every says.
+TEST(PointCloudForce, BackgroundTangentsServeTheMeanAndALinearLawKeepsItsOwn) {
+  const fs::path dir = test::freshDir();
+  constexpr int kSteps = 6;
+  const Vec3 force(0.015, -0.06, 0.0075);  // N, at the last frame: from half of it at the first
+  for (int k = 1; k <= kSteps; ++k) {
+    const Vec3 f = force * (0.5 + 0.1 * (k - 1));
+    std::ostringstream load;
+    load << '[' << f.x() << ", " << f.y() << ", " << f.z() << ']';
+    writeTruthCloud(dir, kSteps, load.str());
+    fs::rename(dir / "cloud.txt", dir / ("pc" + std::to_string(k) + ".txt"));
+  }
+  const auto run = [&](const std::string& name, const std::string& law, const std::string& tangent,
+                       int threads) {
+    std::string yaml = staticCylinder(
+        "[0, 0, 0]", kSteps,
+        "assimilation:\n  filter: roukf\n  tangent: mean\n  threads: " + std::to_string(threads) +
+            "\n" + tangent +
+            "  parameters:\n"
+            "    - {force: {load: 0, component: x}, mean: 0, stddev: 0.05, "
+            "random_walk: 0.01}\n"
+            "    - {force: {load: 0, component: y}, mean: 0, stddev: 0.05, "
+            "random_walk: 0.01}\n"
+            "    - {force: {load: 0, component: z}, mean: 0, stddev: 0.05, "
+            "random_walk: 0.01}\n"
+            "  observations:\n"
+            "    point_cloud: {files: \"pc*.txt\"}\n"
+            "    sigma: 1.0e-5\n");
+    const std::string from = "model: neohookean";
+    const size_t at = yaml.find(from);
+    yaml = yaml.substr(0, at) + "model: " + law + yaml.substr(at + from.size());
+    return runAssimilation(loadSceneFromString(yaml, "estimation.yaml", dir.string()),
+                           (dir / name).string());
+  };
+  const auto forceOf = [](const AssimilationResult& r) {
+    return Vec3(r.parameters[0].mean, r.parameters[1].mean, r.parameters[2].mean);
+  };
+
+  const std::string inBackground = "  tangent_refresh_every: 2\n  tangent_background: true\n";
+  const AssimilationResult background = run("background", "neohookean", inBackground, 2);
+  const AssimilationResult oneThread = run("background-1", "neohookean", inBackground, 1);
+  const AssimilationResult inFrame = run("in-frame", "neohookean", "", 2);
+  const std::vector<double> built = factorizationsPerStep(dir / "background");
+  ASSERT_EQ(built.size(), static_cast<size_t>(kSteps));
+  EXPECT_GE(std::accumulate(built.begin() + 1, built.end(), 0.0), 1.0);  // builds adopted
+  const double error = (forceOf(background) - force).norm() / force.norm();
+  const double inFrameError = (forceOf(inFrame) - force).norm() / force.norm();
+  std::cout << "[ point-cloud force ] growing force, tangents in the background: " << 100 * error
+            << " %, in the frame: " << 100 * inFrameError << " %\n";
+  EXPECT_LE(error, 0.03);
+  EXPECT_LE(std::abs(error - inFrameError), 0.005);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(oneThread.parameters[i].mean, background.parameters[i].mean) << i;
+    EXPECT_EQ(oneThread.parameters[i].stddev, background.parameters[i].stddev) << i;
+  }
+
+  for (const std::string& tangent : {std::string("  tangent_refresh_every: 1\n"), inBackground}) {
+    const std::string name = tangent == inBackground ? "linear-background" : "linear";
+    const AssimilationResult linear = run(name, "linear", tangent, 2);
+    const std::vector<double> linearBuilt = factorizationsPerStep(dir / name);
+    ASSERT_EQ(linearBuilt.size(), static_cast<size_t>(kSteps));
+    EXPECT_EQ(std::accumulate(linearBuilt.begin() + 1, linearBuilt.end(), 0.0), 0.0) << name;
+    EXPECT_GT(forceOf(linear).norm(), 0.5 * force.norm()) << name;  // it did estimate
+  }
 }
 
 // One frame, from a zero force: the closest points found on the rest surface are stale once the
