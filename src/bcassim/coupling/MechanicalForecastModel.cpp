@@ -240,16 +240,22 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
     // A build due at the end of this frame serves its mean already: the mean's chord, which
     // stalls as its tangent ages, is the frame's cost (the sigma points took the older one).
     if (options_.meanTangent) adoptBuildIfDue(shared_->stepsSinceTangent + 1);
-    if (!chordMean(t)) {
-      solveStatic(reference_, t);
-      // The tangent did not serve: a new one at this equilibrium, whatever the schedule.
-      if (options_.meanTangent) shared_->stepsSinceTangent = options_.tangentRefreshEvery;
-    }
+    const bool chorded = chordMean(t);
+    if (!chorded) solveStatic(reference_, t);
     model_.externalForces(reference_.t, referenceLoad_);
     shared_->staticMean = reference_;
     shared_->staticMeanLoad = referenceLoad_;
     if (shared_->next) shared_->factor = shared_->next;
-    refreshMeanTangent();
+    if (chorded || !options_.meanTangent) {
+      refreshMeanTangent();
+    } else {
+      // The tangent did not serve: a new one at this equilibrium now, whatever the schedule. (A
+      // background build would serve N frames later, and the frames between fell back to Newton
+      // too: 250-400 ms each at the mestdagh liver's start.)
+      if (pendingTangent_.valid()) pendingTangent_.wait();
+      pendingTangent_ = {};
+      buildMeanTangent();
+    }
   } else {
     reference_ = shared_->staticMean;
     referenceLoad_ = shared_->staticMeanLoad;
