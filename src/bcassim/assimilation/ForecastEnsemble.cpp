@@ -76,19 +76,18 @@ void ForecastEnsemble::forecast(const Eigen::MatrixXd& points, Eigen::MatrixXd& 
   if (failed) std::rethrow_exception(failed);
 }
 
-ForecastRetries retryCloserToTheMean(int retries, const std::function<void(double spread)>& attempt,
-                                     double& spread) {
+ForecastRetries retryCloserToTheMean(int retries,
+                                     const std::function<void(double spread)>& attempt) {
   ForecastRetries done;
-  spread = 1.0;
   for (;;) {
     try {
-      attempt(spread);
+      attempt(done.spread);
       return done;
     } catch (const NumericalError& e) {
       if (done.halvings == 0) done.failure = e.what();
       if (done.halvings == retries) throw;  // the model's own error, as the caller knows it
       ++done.halvings;
-      spread /= 2;
+      done.spread /= 2;
     }
   }
 }
@@ -97,22 +96,18 @@ ForecastRetries ForecastEnsemble::forecastRetrying(const Eigen::MatrixXd& points
                                                    const Eigen::VectorXd& weights, int retries,
                                                    Eigen::MatrixXd& forecasts,
                                                    Eigen::MatrixXd& observables) {
-  double spread = 1.0;
-  ForecastRetries done = retryCloserToTheMean(
-      retries,
-      [&](double k) {
-        if (k == 1.0) {
-          forecast(points, forecasts, observables);
-          return;
-        }
-        const Eigen::VectorXd centre = points * weights;  // only once a forecast has failed
-        forecast((k * (points.colwise() - centre)).colwise() + centre, forecasts, observables);
-      },
-      spread);
+  ForecastRetries done = retryCloserToTheMean(retries, [&](double k) {
+    if (k == 1.0) {
+      forecast(points, forecasts, observables);
+      return;
+    }
+    const Eigen::VectorXd centre = points * weights;  // only once a forecast has failed
+    forecast((k * (points.colwise() - centre)).colwise() + centre, forecasts, observables);
+  });
   if (done.halvings == 0) return done;
   const auto stretch = [&](Eigen::MatrixXd& m) {
     const Eigen::VectorXd mean = m * weights;
-    m = ((m.colwise() - mean) / spread).colwise() + mean;
+    m = ((m.colwise() - mean) / done.spread).colwise() + mean;
   };
   stretch(forecasts);
   stretch(observables);

@@ -20,14 +20,14 @@ namespace bcassim {
 struct ForecastRetries {
   int halvings = 0;
   std::string failure;
+  double spread = 1.0;  // the points' distance from the mean that served, relative to their own
 };
 
 // The retry policy of a step's forecasts, for every filter: attempt(spread) with spread 1, 1/2,
-// 1/4, ... (the points' distance from the mean, relative to their own) until one returns without
-// a NumericalError, at most retries + 1 calls; the last failure is rethrown as it was. `spread`
-// ends at the one that served.
-ForecastRetries retryCloserToTheMean(int retries, const std::function<void(double spread)>& attempt,
-                                     double& spread);
+// 1/4, ... until one returns without a NumericalError, at most retries + 1 calls; the last
+// failure is rethrown as it was.
+ForecastRetries retryCloserToTheMean(int retries,
+                                     const std::function<void(double spread)>& attempt);
 
 class ForecastEnsemble {
  public:

@@ -65,14 +65,12 @@ FilterStepReport UkfFilter::step(const Observation& y) {
   const auto forecastStart = Clock::now();
   // A failed forecast is redone with the points closer to the mean (FilterOptions::
   // forecastRetries): the scaled transform's spread reduced, its deviations divided by it.
-  double scale = 1.0;
-  const ForecastRetries retried = retryCloserToTheMean(
-      options_.forecastRetries,
-      [&](double k) { P_->forecast(ensemble_, sigma_, x_, options_.spread * k, O, repairs); },
-      scale);
+  const ForecastRetries retried = retryCloserToTheMean(options_.forecastRetries, [&](double k) {
+    P_->forecast(ensemble_, sigma_, x_, options_.spread * k, O, repairs);
+  });
   report.forecastHalvings = retried.halvings;
   report.forecastFailure = retried.failure;
-  const double spread = options_.spread * scale;
+  const double spread = options_.spread * retried.spread;
   report.seconds.forecast = secondsSince(forecastStart);
 
   const auto correctionStart = Clock::now();
