@@ -252,8 +252,7 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
       // The tangent did not serve: a new one at this equilibrium now, whatever the schedule. (A
       // background build would serve N frames later, and the frames between fell back to Newton
       // too: 250-400 ms each at the mestdagh liver's start.)
-      if (pendingTangent_.valid()) pendingTangent_.wait();
-      pendingTangent_ = {};
+      discardPendingTangent();
       buildMeanTangent();
     }
   } else {
@@ -270,9 +269,8 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
 // tangent) and they go on once. False (reference_ untouched) where that does not converge either,
 // or a step inverts an element: Newton solves it then.
 bool MechanicalForecastModel::chordMean(double t) {
-  constexpr int kChordIterations = 10;
-  meanChordSteps_ = kChordIterations + 1;
   if (!options_.meanTangent || !shared_->tangent) return false;
+  constexpr int kChordIterations = 10;
   const auto start = Clock::now();
   Eigen::VectorXd x = reference_.x;
   bool converged = false;
@@ -314,10 +312,7 @@ bool MechanicalForecastModel::chordMean(double t) {
 // A static mean tangent at `at` now (replacing any background build underway), the model's
 // parameters as they are. Throws NumericalError if it cannot be factorised.
 void MechanicalForecastModel::rebuildMeanTangentAt(const MechanicalState& at) {
-  if (pendingTangent_.valid()) {
-    pendingTangent_.wait();
-    pendingTangent_ = {};
-  }
+  discardPendingTangent();
   shared_->stepsSinceTangent = 0;
   adoptTangent(FrozenTangent::buildStatic(model_, at, &shared_->tangent->factor()));
 }
@@ -443,10 +438,15 @@ void MechanicalForecastModel::adoptBuildIfDue(int stepsSince) {
   }
 }
 
-void MechanicalForecastModel::restoreReference(const MechanicalState& reference,
-                                               const Eigen::VectorXd& params) {
+// A build underway is finished (its thread reads this model's members) and thrown away.
+void MechanicalForecastModel::discardPendingTangent() {
   if (pendingTangent_.valid()) pendingTangent_.wait();
   pendingTangent_ = {};
+}
+
+void MechanicalForecastModel::restoreReference(const MechanicalState& reference,
+                                               const Eigen::VectorXd& params) {
+  discardPendingTangent();
   reference_ = reference;
   setParameters(params);
   meanParams_ = params;

@@ -152,6 +152,7 @@ class MechanicalForecastModel final : public ForecastModel {
   void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);
   void refreshMeanTangent();
   void adoptBuildIfDue(int stepsSince);
+  void discardPendingTangent();
   void warmUpBuilder();
 
   MechanicalModel model_;
