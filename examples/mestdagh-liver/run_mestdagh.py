@@ -2,11 +2,16 @@
 """The mestdagh-liver benchmark (../shared/data/mestdagh-liver, made with FEniCS) with bcassim.
 
     examples/mestdagh-liver/run_mestdagh.py BUILD_DIR OUT_DIR [--data DIR] [--only SEQ ...]
-        [--skip-verify] [--skip-register] [--threads N] [--tangent mean|own]
+        [--skip-verify] [--skip-register] [--floor] [--threads N] [--tangent mean|own]
 
 verify:   static solves of mesh-default under the true tool forces (`bcassim simulate`,
           verify.yaml) against positions-default.npy: relative displacement error
           |u - u_true| / |u_true| over all nodes, per frame.
+floor:    (--floor) the true tool force applied on mesh-remeshed (`bcassim simulate`, floor.yaml),
+          shared over its vertices by the barycentric weights of the true tool vertices: the
+          interior error left by the estimation mesh itself when the force is known, and the
+          factor on its displacements that fits the truth best (> 1: this mesh is stiffer than
+          the one that made the data, < 1: softer; a force estimated from shapes alone carries it).
 register: from mesh-remeshed and the point clouds only, the tool force estimated frame after
           frame (`bcassim assimilate`, register.yaml); interior nodes of mesh-default
           interpolated from the estimate (validation points mapped into mesh-remeshed) against
@@ -124,6 +129,71 @@ def verify(bcassim, data, out, seq):
     return np.array(errors)
 
 
+def tool_shares(data, seq):
+    """The true tool vertices of mesh-default as nodal shares on mesh-remeshed: each tool vertex
+    (force / count) given to the vertices of the remeshed tet that holds it, by its barycentric
+    weights (negative ones, for a vertex just outside the mesh, clipped). {vertex: share}."""
+    V, _ = read_msh_nodes_and_tets(os.path.join(data, "mesh-default", "liver.msh"))
+    W, T = read_msh_nodes_and_tets(os.path.join(data, "mesh-remeshed", "liver.msh"))
+    tool = np.loadtxt(os.path.join(data, "sequences", seq, "tool-vertices-default.txt"),
+                      dtype=int, ndmin=1)
+    edges = np.stack([W[T[:, 1]] - W[T[:, 0]], W[T[:, 2]] - W[T[:, 0]],
+                      W[T[:, 3]] - W[T[:, 0]]], axis=2)
+    shares = {}
+    for v in tool:
+        b = np.linalg.solve(edges, (V[v] - W[T[:, 0]])[:, :, None])[:, :, 0]
+        b = np.concatenate([1 - b.sum(axis=1, keepdims=True), b], axis=1)
+        best = int(np.argmax(b.min(axis=1)))
+        w = np.clip(b[best], 0, None)
+        for node, weight in zip(T[best], w / w.sum()):
+            shares[int(node)] = shares.get(int(node), 0.0) + weight / len(tool)
+    return shares
+
+
+def floor(bcassim, data, out, seq):
+    """Interior error of mesh-remeshed under the true force (the estimation mesh's own error),
+    and the factor on its displacements that fits the truth best, per frame."""
+    work = os.path.join(out, "floor", seq.replace("/", "-"))
+    os.makedirs(work, exist_ok=True)
+    V, T = read_msh_nodes_and_tets(os.path.join(data, "mesh-default", "liver.msh"))
+    interior = np.setdiff1d(np.arange(len(V)), boundary_nodes(T))
+    points = os.path.join(work, "interior-points.csv")
+    np.savetxt(points, V[interior], delimiter=",", header="x,y,z", comments="", fmt="%.17g")
+    forces = np.load(os.path.join(data, "sequences", seq, "true-forces.npy"))
+    loads = []
+    for node, share in sorted(tool_shares(data, seq).items()):
+        frames = os.path.join(work, f"force-{node}.npy")
+        np.save(frames, share * forces)
+        loads.append(f"  - region: {{nodes: [{node}]}}\n    total_force_frames: \"{frames}\"")
+    scene = os.path.join(work, "floor.yaml")
+    with open(scene, "w") as f:
+        f.write(fill("floor.yaml", data=data, material=material_of(seq), points=points,
+                     loads="\n".join(loads)))
+    run([bcassim, "simulate", scene, "--out", os.path.join(work, "run"), "-q"],
+        os.path.join(work, "simulate.log"))
+    truth = np.load(os.path.join(data, "sequences", seq, "positions-default.npy"))[:, interior]
+    rows = np.loadtxt(os.path.join(work, "run", "validation.csv"), delimiter=",", skiprows=1)
+    mean_mm, max_mm, rest_mm, factor, scaled_mm = [], [], [], [], []
+    for k in range(truth.shape[0]):
+        frame = rows[np.abs(rows[:, 0] - (k + 1) * DT) < 1e-9 * DT]
+        x = np.empty((len(interior), 3))
+        x[frame[:, 1].astype(int)] = frame[:, 2:5]
+        u, u_true = x - V[interior], truth[k] - V[interior]
+        e = 1e3 * np.linalg.norm(u - u_true, axis=1)
+        mean_mm.append(e.mean())
+        max_mm.append(e.max())
+        rest_mm.append(1e3 * np.linalg.norm(u_true, axis=1).mean())
+        factor.append(float((u * u_true).sum() / (u * u).sum()))
+        # Under the linear law the displacement is linear in the force: factor x the true force
+        # is the force that fits the truth best on this mesh, and this its interior error.
+        scaled_mm.append(1e3 * np.linalg.norm(factor[-1] * u - u_true, axis=1).mean())
+    return {"sequence": seq, "mean_mm": np.mean(mean_mm), "max_mm": np.max(max_mm),
+            "mean_pct_of_rest": 100 * np.mean(mean_mm) / np.mean(rest_mm),
+            "factor_min": np.min(factor), "factor_max": np.max(factor),
+            "factor_median": float(np.median(factor)),
+            "best_multiple_mean_mm": np.mean(scaled_mm) if seq.startswith("linear") else None}
+
+
 # --footprint: the force's share over the zone estimated too (LoadFootprint): "full" = tilts and
 # concentration, "tilt" = the tilts only (the force's centre moves, its spread stays the zone's).
 FOOTPRINT_TILTS = """
@@ -210,6 +280,9 @@ def main():
     parser.add_argument("--only", nargs="*", default=SEQUENCES)
     parser.add_argument("--skip-verify", action="store_true")
     parser.add_argument("--skip-register", action="store_true")
+    parser.add_argument("--floor", action="store_true",
+                        help="also solve mesh-remeshed under the true forces: the interior "
+                             "error the estimation mesh leaves when the force is known")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--tangent", choices=sorted(TANGENT_SETTINGS), default="own",
                         help="registration: own (Newton for every sigma point) or mean "
@@ -244,6 +317,34 @@ def main():
                 md.append(f"| {seq} | {seq.split('/')[0]} | {len(e)} | {e.max():.1e} | "
                           f"{e.mean():.1e} |")
                 print(f"verify {seq}: max {e.max():.2e}, mean {e.mean():.2e}", flush=True)
+        md.append("")
+    if a.floor:
+        md += ["| sequence | interior error under the true force, mean / max (mm) | "
+               "mean, % of rest | displacement factor that fits the truth, median (min-max) | "
+               "linear law: interior error under that multiple of the true force (mm) |",
+               "|---|---|---|---|---|"]
+        with open(os.path.join(out, "floor.csv"), "w") as f:
+            f.write("sequence,mean_mm,max_mm,mean_pct_of_rest,factor_median,factor_min,"
+                    "factor_max,best_multiple_mean_mm\n")
+            for seq in a.only:
+                try:
+                    r = floor(bcassim, data, out, seq)
+                    best = r["best_multiple_mean_mm"]
+                except RunFailed as failure:
+                    md.append(f"| {seq} | failed: {failure} | | | |")
+                    print(f"floor {seq}: failed, {failure}", flush=True)
+                    continue
+                f.write(f"{seq},{r['mean_mm']:.4g},{r['max_mm']:.4g},"
+                        f"{r['mean_pct_of_rest']:.4g},{r['factor_median']:.4g},"
+                        f"{r['factor_min']:.4g},{r['factor_max']:.4g},"
+                        f"{'' if best is None else f'{best:.4g}'}\n")
+                md.append(f"| {seq} | {r['mean_mm']:.2f} / {r['max_mm']:.2f} | "
+                          f"{r['mean_pct_of_rest']:.1f} | {r['factor_median']:.3f} "
+                          f"({r['factor_min']:.3f}-{r['factor_max']:.3f}) | "
+                          f"{'-' if best is None else f'{best:.2f}'} |")
+                print(f"floor {seq}: interior {r['mean_mm']:.2f}/{r['max_mm']:.2f} mm "
+                      f"({r['mean_pct_of_rest']:.1f} % of rest), factor "
+                      f"{r['factor_median']:.3f}", flush=True)
         md.append("")
     if not a.skip_register:
         results, failed = [], []
