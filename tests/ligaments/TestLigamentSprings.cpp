@@ -105,6 +105,38 @@ TEST(LigamentSprings, CurvedSurfaceSpringsFollowNormals) {
   EXPECT_DOUBLE_EQ(lig.springs.coefficients(4).kGamma, 10);
 }
 
+TEST(LigamentSprings, ABandPutsTheTwoLayersOnItsEdges) {
+  const TetMesh box = makeBoxMesh(Vec3(0.1, 0.1, 0.1), 10, 10, 10);
+  // Across the top face z = 0.1; the band widens from +-2 mm to +-12 mm along it, its edges given
+  // above the face (an atlas' band is snapped too).
+  Eigen::MatrixX3d curve(3, 3), lower(3, 3), upper(3, 3);
+  curve << 0.02, 0.05, 0.1, 0.05, 0.05, 0.1, 0.08, 0.05, 0.1;
+  lower << 0.02, 0.048, 0.101, 0.05, 0.043, 0.101, 0.08, 0.038, 0.101;
+  upper << 0.02, 0.052, 0.101, 0.05, 0.057, 0.101, 0.08, 0.062, 0.101;
+  LigamentOptions options;
+  options.spacing = 0.005;
+  options.numGroups = 3;
+  const LigamentSprings plain = buildLigamentSprings(box, curve, options);
+  options.bandLower = lower;
+  options.bandUpper = upper;
+  const LigamentSprings lig = buildLigamentSprings(box, curve, options);
+  const auto& springs = lig.springs.springs();
+  ASSERT_EQ(springs.size(), plain.springs.springs().size());
+  const size_t perRow = springs.size() / 2;
+  for (size_t s = 0; s < springs.size(); ++s) {
+    const Vec3 a = lig.attachments.row(s).transpose();
+    // The half width at the sample's arc length: 2 mm + 10 mm x (x - 0.02) / 0.06.
+    const double half = 0.002 + 0.01 * (a.x() - 0.02) / 0.06;
+    EXPECT_NEAR(a.y(), s < perRow ? 0.05 - half : 0.05 + half, 1e-12) << s;
+    EXPECT_NEAR(a.x(), plain.attachments(static_cast<Eigen::Index>(s), 0), 1e-12) << s;
+    EXPECT_NEAR(a.z(), 0.1, 1e-12);
+    EXPECT_EQ(springs[s].group, plain.springs.springs()[s].group) << s;
+    EXPECT_LT(angle(springs[s].anchor - a, Vec3::UnitZ()), 1e-6);
+  }
+  EXPECT_NEAR(lig.maxSnapDistance, 0.001, 1e-12);
+  expectOnBoundary(box, lig, 1e-12);
+}
+
 TEST(LigamentSprings, BadInputIsAnInputError) {
   const TetMesh box = makeBoxMesh(Vec3(0.1, 0.1, 0.1), 2, 2, 2);
   EXPECT_THROW(buildLigamentSprings(box, Eigen::MatrixX3d::Zero(1, 3)), InputError);
@@ -112,6 +144,19 @@ TEST(LigamentSprings, BadInputIsAnInputError) {
   LigamentOptions bad;
   bad.layers = 3;
   EXPECT_THROW(buildLigamentSprings(box, Eigen::MatrixX3d::Identity(2, 3), bad), InputError);
+  LigamentOptions band;
+  band.bandLower = band.bandUpper = Eigen::MatrixX3d::Identity(3, 3);
+  try {
+    buildLigamentSprings(box, Eigen::MatrixX3d::Identity(2, 3), band);
+    ADD_FAILURE() << "a band of 3 points for a curve of 2 was taken";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "ligament: a band of 3 lower and 3 upper points with 2 layer(s) for a curve of 2 "
+                 "points; expected as many points on each edge as the curve has, and 2 layers");
+  }
+  band.bandLower = band.bandUpper = Eigen::MatrixX3d::Identity(2, 3);
+  band.layers = 1;
+  EXPECT_THROW(buildLigamentSprings(box, Eigen::MatrixX3d::Identity(2, 3), band), InputError);
 }
 
 TEST(VesselRegion, BallAroundGuessedHilum) {

@@ -77,6 +77,14 @@ LigamentSprings buildLigamentSprings(const TetMesh& mesh, const Eigen::MatrixX3d
         "expected length > 0, groups >= 1, layers 1 or 2, spacing and offset >= 0",
         options.length, options.numGroups, options.layers, options.spacing, options.layerOffset));
   }
+  const bool band = options.bandLower.rows() > 0 || options.bandUpper.rows() > 0;
+  if (band && (options.bandLower.rows() != curve.rows() ||
+               options.bandUpper.rows() != curve.rows() || options.layers != 2)) {
+    throw InputError(fmt::format(
+        "ligament: a band of {} lower and {} upper points with {} layer(s) for a curve of {} "
+        "points; expected as many points on each edge as the curve has, and 2 layers",
+        options.bandLower.rows(), options.bandUpper.rows(), options.layers, curve.rows()));
+  }
   std::vector<double> cumulative(curve.rows(), 0.0);
   for (Eigen::Index i = 1; i < curve.rows(); ++i) {
     cumulative[i] = cumulative[i - 1] + (curve.row(i) - curve.row(i - 1)).norm();
@@ -89,8 +97,12 @@ LigamentSprings buildLigamentSprings(const TetMesh& mesh, const Eigen::MatrixX3d
   const int n = std::max(options.numGroups, static_cast<int>(std::lround(length / spacing)));
   const int K = options.numGroups;
 
-  // Position and unit tangent of the curve at arc length s.
-  auto along = [&](double s, Vec3& point, Vec3& tangent) {
+  // The curve's segment (points a, b) and fraction t at arc length s.
+  struct Place {
+    Eigen::Index a, b;
+    double t;
+  };
+  auto placeAt = [&](double s) {
     const size_t i = std::min<size_t>(
         std::upper_bound(cumulative.begin(), cumulative.end(), s) - cumulative.begin(),
         cumulative.size() - 1);
@@ -99,9 +111,11 @@ LigamentSprings buildLigamentSprings(const TetMesh& mesh, const Eigen::MatrixX3d
     while (b + 1 < cumulative.size() && cumulative[b] <= cumulative[a]) ++b;  // skip repeats
     const double seg = cumulative[b] - cumulative[a];
     const double t = seg > 0 ? std::clamp((s - cumulative[a]) / seg, 0.0, 1.0) : 0.0;
-    const Vec3 pa = curve.row(a).transpose(), pb = curve.row(b).transpose();
-    point = pa + t * (pb - pa);
-    tangent = (pb - pa).normalized();
+    return Place{static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b), t};
+  };
+  auto pointOf = [](const Eigen::MatrixX3d& c, const Place& at) {
+    const Vec3 pa = c.row(at.a).transpose(), pb = c.row(at.b).transpose();
+    return Vec3(pa + at.t * (pb - pa));
   };
 
   std::vector<CubicSpring> springs;
@@ -111,14 +125,19 @@ LigamentSprings buildLigamentSprings(const TetMesh& mesh, const Eigen::MatrixX3d
   const std::vector<double> offsets =
       options.layers == 1 ? std::vector<double>{0.0}
                           : std::vector<double>{options.layerOffset, -options.layerOffset};
-  for (double offset : offsets) {
+  for (size_t layer = 0; layer < offsets.size(); ++layer) {
+    const double offset = offsets[layer];
     for (int i = 0; i < n; ++i) {
       const double s = (i + 0.5) * length / n;
-      Vec3 p, tangent;
-      along(s, p, tangent);
-      Snapped on = snapper.snap(p);
+      const Place at = placeAt(s);
+      const Vec3 tangent = (curve.row(at.b) - curve.row(at.a)).transpose().normalized();
+      Snapped on = snapper.snap(pointOf(curve, at));
       out.maxSnapDistance = std::max(out.maxSnapDistance, on.distance);
-      if (offset != 0) {
+      if (band) {
+        // The edge's point across from this sample (the first layer on the lower edge).
+        on = snapper.snap(pointOf(layer == 0 ? options.bandLower : options.bandUpper, at));
+        out.maxSnapDistance = std::max(out.maxSnapDistance, on.distance);
+      } else if (offset != 0) {
         // Across the curve within the tangent plane; re-snapped since the surface curves away.
         const Vec3 across = tangent.cross(on.normal).normalized();
         on = snapper.snap(on.point + offset * across);

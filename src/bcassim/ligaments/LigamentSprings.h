@@ -22,6 +22,12 @@ struct LigamentOptions {
   int layers = 2;              // 1: springs on the curve itself; 2: the two offset rows
   double layerOffset = 0.004;  // m
   bool smoothNormals = true;   // normal from interpolated vertex normals, else the closest face's
+  // A band about the curve (e.g. a ligament atlas' mean -/+ sigma, CarriedCurve::lower/upper):
+  // both empty, or as many points as the curve, point i of each across the curve from its point
+  // i. Given, the two layers follow its two edges instead of the offsets, so that the springs are
+  // spread over where the ligament may be rather than packed about its most likely place; the
+  // samples, arc lengths and groups stay those of the curve. Needs layers = 2.
+  Eigen::MatrixX3d bandLower, bandUpper;
   CubicSpringCoefficients coefficients;  // initial coefficients of every group
 };
 
@@ -38,7 +44,8 @@ struct LigamentSprings {
 // `curve`: #P by 3 ordered points (m, the mesh's frame; P >= 2), e.g. AttachmentCurve::points
 // scaled like the mesh. Samples sit at arc lengths (i + 1/2) L / n, n = max(numGroups,
 // round(L / spacing)); sample i belongs to group floor(K s_i / L). Throws InputError for an
-// empty mesh, a curve of fewer than 2 points or zero length, or bad options.
+// empty mesh, a curve of fewer than 2 points or zero length, a band whose point count is not the
+// curve's (or with one layer), or bad options.
 LigamentSprings buildLigamentSprings(const TetMesh& mesh, const Eigen::MatrixX3d& curve,
                                      const LigamentOptions& options = {});
 
