@@ -137,6 +137,45 @@ TEST(SceneLigament, CurveExtrudedIntoGroupedSpringsAlongTheNormal) {
       InputError);
 }
 
+TEST(SceneLigament, ABandReadFromTwoCurvesHoldsTheLayersOnItsEdges) {
+  const auto dir = freshDir();
+  writeText(dir / "curve.csv", "x,y,z\n0.01,0.02,0.04\n0.05,0.02,0.04\n0.09,0.02,0.04\n");
+  writeText(dir / "lower.csv", "x,y,z\n0.01,0.015,0.04\n0.05,0.01,0.04\n0.09,0.005,0.04\n");
+  writeText(dir / "upper.csv", "x,y,z\n0.01,0.025,0.04\n0.05,0.03,0.04\n0.09,0.035,0.04\n");
+  const std::string head =
+      "mesh: {generator: box, size: [0.1, 0.04, 0.04], cells: [10, 4, 4]}\n"
+      "springs:\n"
+      "  groups: [{coefficients: [1, 0, 2]}]\n"
+      "  ligament: {curve: curve.csv, spacing: 0.01, ";
+  const Scene scene = loadSceneFromString(head + "band: {lower: lower.csv, upper: upper.csv}}\n",
+                                          "band.yaml", dir.string());
+  const CubicSpringSet& springs = scene.model.springs;
+  ASSERT_EQ(springs.springs().size(), 16u);
+  const Eigen::VectorXd x = scene.model.restPositions();
+  for (size_t s = 0; s < springs.springs().size(); ++s) {
+    const Vec3 a = springs.attachment(*scene.model.mesh, x, s);
+    const double half = 0.005 + 0.01 * (a.x() - 0.01) / 0.08;  // the band widens along x
+    EXPECT_NEAR(a.y(), s < 8 ? 0.02 - half : 0.02 + half, 1e-9) << s;
+    EXPECT_NEAR(a.z(), 0.04, 1e-9);
+  }
+  writeText(dir / "short.csv", "x,y,z\n0.01,0.015,0.04\n0.09,0.005,0.04\n");
+  auto errorOf = [&](const std::string& rest) {
+    try {
+      loadSceneFromString(head + rest, "band.yaml", dir.string());
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(errorOf("band: {lower: short.csv, upper: upper.csv}}\n"),
+            "band.yaml:4: springs.ligament.band.lower: 2 points, expected as many as the curve "
+            "(3)");
+  EXPECT_EQ(errorOf("layers: 1, band: {lower: lower.csv, upper: upper.csv}}\n"),
+            "band.yaml:4: springs.ligament.band: expected 2 layers (the band's two edges), got 1");
+  EXPECT_EQ(errorOf("band: {lower: lower.csv}}\n"),
+            "band.yaml:4: springs.ligament.band.upper: cannot open '" + (dir / "").string() + "'");
+}
+
 TEST(LiverPhantom, LabelsAFalciformCurveAndARidge) {
   const LiverPhantom p = makeLiverPhantom();
   int falciform = 0, ridge = 0;

@@ -308,11 +308,14 @@ std::vector<CubicSpring> readLigament(const YamlSource& src, const MapReader& s,
                                       const TetMesh& mesh,
                                       const std::vector<CubicSpringCoefficients>& groups) {
   MapReader r(src, s.node("ligament"), "springs.ligament",
-              {"curve", "length", "spacing", "layers", "layer_offset", "smooth_normals"});
-  const std::string curvePath = r.existingFile("curve");
-  Eigen::MatrixX3d curve;
-  yamlio::withContext(src, r.node("curve"), r.pathOf("curve"),
-                      [&] { curve = readPoints(curvePath); });
+              {"curve", "length", "spacing", "layers", "layer_offset", "smooth_normals", "band"});
+  auto readCurve = [&](const MapReader& m, const std::string& key) {
+    const std::string path = m.existingFile(key);
+    Eigen::MatrixX3d points;
+    yamlio::withContext(src, m.node(key), m.pathOf(key), [&] { points = readPoints(path); });
+    return points;
+  };
+  const Eigen::MatrixX3d curve = readCurve(r, "curve");
   LigamentOptions o;
   o.length = r.number("length", kDefaultSpringLength, "m", Range::Positive);
   o.spacing = r.number("spacing", 0.0, "m", Range::NonNegative);
@@ -320,6 +323,17 @@ std::vector<CubicSpring> readLigament(const YamlSource& src, const MapReader& s,
   if (o.layers != 1 && o.layers != 2) r.fail("layers", "expected 1 or 2");
   o.layerOffset = r.number("layer_offset", o.layerOffset, "m", Range::NonNegative);
   o.smoothNormals = r.boolean("smooth_normals", true);
+  if (r.has("band")) {
+    if (o.layers != 2) r.fail("band", "expected 2 layers (the band's two edges), got 1");
+    const MapReader band(src, r.node("band"), r.pathOf("band"), {"lower", "upper"});
+    o.bandLower = readCurve(band, "lower");
+    o.bandUpper = readCurve(band, "upper");
+    for (const auto* edge : {&o.bandLower, &o.bandUpper})
+      if (edge->rows() != curve.rows())
+        band.fail(edge == &o.bandLower ? "lower" : "upper",
+                  fmt::format("{} points, expected as many as the curve ({})", edge->rows(),
+                              curve.rows()));
+  }
   std::vector<CubicSpring> springs;
   yamlio::withContext(src, r.node("curve"), r.pathOf("curve"), [&] {
     springs = ligamentSprings(mesh, curve, o, static_cast<int>(groups.size()));
