@@ -2,6 +2,7 @@
 // estimation springs from a ligament atlas transferred onto it and its anatomical frame without
 // the ridge label; the springs' priors come from a membrane calibrated by `ligament springs`.
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -22,6 +23,7 @@
 #include "bcassim/mechanics/CubicSpringSet.h"
 #include "bcassim/mesh/ClosestPoint.h"
 #include "bcassim/scene/LigamentSpringPriors.h"
+#include "bcassim/scene/SceneLoader.h"
 #include "support/SmallLiverOptions.h"
 #include "support/TestFiles.h"
 
@@ -40,11 +42,11 @@ Eigen::Matrix3d atlasModeRotation(double degrees, const Eigen::Vector3d& axis) {
       .toRotationMatrix();
 }
 
-// Three "patients" of the phantom's shape, slightly turned and moved, their curves 4 mm to either
-// side of the phantom's along the lateral axis: an atlas whose mean curve is the phantom's.
-LigamentAtlas atlasModeSmallAtlas(const LiverPhantom& p) {
+// Three "patients" of the phantom's shape, slightly turned and moved, their curves `shift` (m) to
+// either side of the phantom's along the lateral axis: an atlas whose mean curve is the phantom's.
+LigamentAtlas atlasModeSmallAtlas(const LiverPhantom& p, double shift = 0.004) {
   const Eigen::MatrixX3d curve = atlasModePhantomCurve(p);
-  const double shifts[3] = {0.0, -0.004, 0.004};
+  const double shifts[3] = {0.0, -shift, shift};
   const Eigen::Matrix3d turns[3] = {Eigen::Matrix3d::Identity(), atlasModeRotation(4, {0, 0, 1}),
                                     atlasModeRotation(-3, {1, 0, 0})};
   std::vector<AtlasSubject> subjects;
@@ -135,6 +137,98 @@ TEST(LiverAtlasMode, UnannotatedLiverGetsItsSpringsOnTheTransferredAtlasCurve) {
               s.anatomy.lateral.dot(turn * annotated.lateral),
               s.anatomy.anterior.dot(turn * annotated.anterior),
               s.anatomy.superior.dot(turn * annotated.superior));
+}
+
+TEST(LiverAtlasMode, TheBandOptionPutsTheEstimationSpringsOnTheBandsEdges) {
+  const fs::path dir = test::freshDir();
+  const LiverPhantom phantom = makeLiverPhantom();
+  // Curves 10 mm to either side: a band wider than the layers' +-4 mm about the mean curve.
+  writeLigamentAtlas((dir / "atlas").string(), atlasModeSmallAtlas(phantom, 0.010));
+  TriMesh patient = phantom.surface;
+  patient.V *= 1e3;
+  writeObj((dir / "patient.obj").string(), patient);
+  LiverScenarioOptions o = atlasModeSmallLiver(dir / "patient.obj");
+  o.atlas = (dir / "atlas").string();
+  const LiverScenario plain = prepareLiverScenario(o, (dir / "plain").string());
+  o.atlasBand = true;
+  const LiverScenario banded = prepareLiverScenario(o, (dir / "band").string());
+
+  const Eigen::MatrixX3d curve = readPoints((dir / "band" / "spring_curve.csv").string());
+  const Eigen::MatrixX3d lower = readPoints((dir / "band" / "spring_band_lower.csv").string());
+  const Eigen::MatrixX3d upper = readPoints((dir / "band" / "spring_band_upper.csv").string());
+  ASSERT_EQ(lower.rows(), curve.rows());
+  ASSERT_EQ(upper.rows(), curve.rows());
+  // The edges lie on the patient, about sigma to either side of the mean curve.
+  TriMesh patientM = phantom.surface;
+  const SurfaceLocator onPatient(patientM);
+  double halfWidth = 0;
+  for (Eigen::Index i = 0; i < curve.rows(); ++i) {
+    EXPECT_LT(onPatient.closest(lower.row(i).transpose()).distance, 1e-6) << i;
+    EXPECT_LT(onPatient.closest(upper.row(i).transpose()).distance, 1e-6) << i;
+    halfWidth += 0.5 * (upper.row(i) - lower.row(i)).norm() / static_cast<double>(curve.rows());
+  }
+  EXPECT_GT(halfWidth, 0.5 * banded.atlas.meanSigma);
+  EXPECT_LE(halfWidth, banded.atlas.meanSigma * (1 + 1e-9));
+
+  // The estimation scene names the band, and its springs (as read back) follow its edges: as
+  // many as on the mean curve, the first layer on the lower edge, the second on the upper.
+  const std::string estimate = test::readText(dir / "band" / "estimate.yaml");
+  EXPECT_TRUE(test::contains(estimate,
+                             "band: {lower: spring_band_lower.csv, upper: spring_band_upper.csv}"));
+  const Scene& scene = *banded.estimateScene;
+  const auto& springs = scene.model.springs.springs();
+  ASSERT_EQ(springs.size(), plain.estimateScene->model.springs.springs().size());
+  // The file says the same (its mesh and springs only: its tracks are the truth run's).
+  const YAML::Node file = YAML::LoadFile((dir / "band" / "estimate.yaml").string());
+  YAML::Node part;
+  part["mesh"] = file["mesh"];
+  part["springs"] = file["springs"];
+  const Scene fromFile =
+      loadSceneFromString(YAML::Dump(part), "springs.yaml", (dir / "band").string());
+  ASSERT_EQ(fromFile.model.springs.springs().size(), springs.size());
+  for (size_t k = 0; k < springs.size(); ++k) {
+    EXPECT_EQ(fromFile.model.springs.springs()[k].tet, springs[k].tet) << k;
+    EXPECT_LT((fromFile.model.springs.springs()[k].weights - springs[k].weights).norm(), 1e-9);
+  }
+  const Eigen::VectorXd x = scene.model.restPositions();
+  const size_t perLayer = springs.size() / 2;
+  double offEdge = 0, offMean = 0;
+  for (size_t k = 0; k < springs.size(); ++k) {
+    const Vec3 a = scene.model.springs.attachment(*scene.model.mesh, x, k);
+    const Eigen::MatrixX3d at = a.transpose();
+    offEdge = std::max(offEdge, distancesToPolyline(at, k < perLayer ? lower : upper)[0]);
+    offMean += distancesToPolyline(at, curve)[0] / static_cast<double>(springs.size());
+  }
+  // Within the coarse mesh's snapping of the edge (its faces cut the phantom's curved surface).
+  EXPECT_LT(offEdge, 0.002);
+  EXPECT_GT(halfWidth, 0.006);
+  EXPECT_GT(offMean, 0.75 * halfWidth);  // the layers about the mean curve lie 4 mm from it
+  std::printf(
+      "band: half width %.2f mm (sigma %.2f mm), springs <= %.2f mm from their edge, "
+      "%.2f mm from the mean curve on average\n",
+      1e3 * halfWidth, 1e3 * banded.atlas.meanSigma, 1e3 * offEdge, 1e3 * offMean);
+  // The baseline's fixed nodes and the anatomy follow the mean curve in both.
+  auto heldLine = [&](const char* run) {
+    const std::string text = test::readText(dir / run / "baseline.yaml");
+    const size_t at = text.find("the ligament's attachment");
+    return at == std::string::npos
+               ? std::string("none")
+               : text.substr(text.rfind('\n', at) + 1, at - text.rfind('\n', at));
+  };
+  EXPECT_EQ(heldLine("band"), heldLine("plain"));
+  EXPECT_NE(heldLine("band"), "none");
+  EXPECT_EQ(banded.fixedNodes, plain.fixedNodes);
+
+  LiverScenarioOptions annotated = atlasModeSmallLiver(kLiverPhantomName);
+  annotated.atlasBand = true;
+  try {
+    prepareLiverScenario(annotated, (dir / "no-atlas").string());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "liver: --atlas-band spreads the springs over an atlas' band; it needs --atlas "
+                 "(or --atlas-livers)");
+  }
 }
 
 TEST(LiverAtlasMode, UnannotatedLiverWithoutAtlasOrWithAMissingOneIsOneLine) {

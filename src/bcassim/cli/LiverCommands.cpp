@@ -162,6 +162,10 @@ struct LiverArguments {
     app.add_option("--atlas-livers", options.atlasLivers,
                    "Atlas mode: build the atlas from these annotated livers (a folder of .obj + "
                    ".eseg), this liver left out (minutes; kept in --atlas)");
+    app.add_flag("--atlas-band", options.atlasBand,
+                 "Atlas mode: the two layers of estimation springs on the edges of the atlas' "
+                 "band (its mean curve -/+ sigma on this liver, m) instead of +-4 mm about the "
+                 "mean curve; the baseline's fixed nodes stay on the mean curve");
   }
 
   // The options with the surface resolved to a file (or the phantom).

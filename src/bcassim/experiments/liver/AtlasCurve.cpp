@@ -41,6 +41,8 @@ void transferOnto(const LigamentAtlas& atlas, const TriMesh& patient, int iterat
   result.transferSeconds = secondsSince(t0);
   result.curve = transfer.curve.mean;
   result.sigma = transfer.curve.sigma;
+  result.lower = transfer.curve.lower;
+  result.upper = transfer.curve.upper;
   result.rotationDegrees = transfer.rigidReport.rotationDegrees;
   result.poseDoubts = poseDoubts(transfer.rigidReport, maxRotationDegrees);
 }

@@ -22,9 +22,10 @@ struct LeftOutAtlasOptions {
 };
 
 struct AtlasCurve {
-  Eigen::MatrixX3d curve;  // transferred mean curve on the patient's surface, m
-  Eigen::VectorXd sigma;   // its per-point standard deviation, m
-  int atlasLivers = 0;     // livers the atlas was built from (0: read from a folder)
+  Eigen::MatrixX3d curve;         // transferred mean curve on the patient's surface, m
+  Eigen::VectorXd sigma;          // its per-point standard deviation, m
+  Eigen::MatrixX3d lower, upper;  // the band's edges (mean -/+ sigma) on the surface, m
+  int atlasLivers = 0;            // livers the atlas was built from (0: read from a folder)
   bool fromCache = false;
   double buildSeconds = 0, transferSeconds = 0;
   double rotationDegrees = 0;  // of the rigid alignment of the atlas' template onto the patient

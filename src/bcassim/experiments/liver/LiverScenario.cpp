@@ -184,6 +184,10 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   std::string name;
   double scale = o.scale;
   const bool atlasMode = !o.atlas.empty() || !o.atlasLivers.empty();
+  if (o.atlasBand && !atlasMode)
+    throw InputError(
+        "liver: --atlas-band spreads the springs over an atlas' band; it needs "
+        "--atlas (or --atlas-livers)");
   bool annotated = true;
   if (o.surface == kLiverPhantomName) {
     LiverPhantom phantom = makeLiverPhantom();
@@ -207,7 +211,7 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   }
 
   // The springs' curve: the atlas' mean curve transferred onto this liver, or the annotation.
-  Eigen::MatrixX3d springCurve;
+  Eigen::MatrixX3d springCurve, bandLower, bandUpper;
   if (atlasMode) {
     TriMesh patient = surface;
     patient.V *= scale;
@@ -228,6 +232,10 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
     for (const std::string& doubt : transferred.poseDoubts)
       if (log) log(fmt::format("atlas transfer onto {}: {}", name, doubt));
     springCurve = transferred.curve;
+    if (o.atlasBand) {
+      bandLower = transferred.lower;
+      bandUpper = transferred.upper;
+    }
     result.atlas.used = true;
     result.atlas.rotationDegrees = transferred.rotationDegrees;
     result.atlas.buildSeconds = transferred.buildSeconds;
@@ -267,11 +275,18 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   LigamentOptions lo;
   lo.length = o.ligamentLength;
   lo.numGroups = o.groups;
-  const LigamentSprings est = buildLigamentSprings(mesh, springCurve, lo);
+  // The baseline's fixed nodes and the anatomy follow the mean curve; with the band, the
+  // estimation's springs its edges (the same samples and groups, so the same count).
+  const LigamentSprings onCurve = buildLigamentSprings(mesh, springCurve, lo);
+  LigamentOptions banded = lo;
+  banded.bandLower = bandLower;
+  banded.bandUpper = bandUpper;
+  const LigamentSprings est =
+      o.atlasBand ? buildLigamentSprings(mesh, springCurve, banded) : onCurve;
   result.curveLength = est.curveLength;
   const Vec3 truthNormal =
       atlasMode ? buildLigamentSprings(mesh, curve, lo).normals.colwise().sum().transpose()
-                : Vec3(est.normals.colwise().sum().transpose());
+                : Vec3(onCurve.normals.colwise().sum().transpose());
   const LiverAnatomy a = findAnatomy(mesh, curve, truthNormal, hasRidge ? &ridge : nullptr);
   result.anatomy = a;
 
@@ -315,8 +330,8 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   const double estSpacing = est.curveLength / perLayer;
   std::vector<int> fixedNodes;
   for (int n : boundary.nodes)
-    for (Eigen::Index s = 0; s < est.attachments.rows(); ++s)
-      if ((mesh.V.row(n) - est.attachments.row(s)).norm() < kFixedRadius) {
+    for (Eigen::Index s = 0; s < onCurve.attachments.rows(); ++s)
+      if ((mesh.V.row(n) - onCurve.attachments.row(s)).norm() < kFixedRadius) {
         fixedNodes.push_back(n);
         break;
       }
@@ -327,6 +342,10 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   writeTetMesh((dir / "fine.vtu").string(), fine.mesh);
   writePointsCsv((dir / "curve.csv").string(), curve);
   if (atlasMode) writePointsCsv((dir / "spring_curve.csv").string(), springCurve);
+  if (o.atlasBand) {
+    writePointsCsv((dir / kSpringBandLowerFile).string(), bandLower);
+    writePointsCsv((dir / kSpringBandUpperFile).string(), bandUpper);
+  }
   writePointsCsv((dir / "markers.csv").string(), markers);
   writePointsCsv((dir / "validation.csv").string(), validation);
   writePointsCsv((dir / "tumours.csv").string(), tumours);
@@ -350,6 +369,8 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   spec.curve = curve;
   spec.springCurve = springCurve;
   if (atlasMode) spec.springCurveFile = "spring_curve.csv";
+  spec.springBandLower = bandLower;
+  spec.springBandUpper = bandUpper;
   spec.markers = markers;
   spec.validation = validation;
   spec.tumours = tumours;

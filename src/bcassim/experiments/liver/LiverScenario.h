@@ -28,6 +28,10 @@ struct LiverScenarioOptions {
   // the curve's distance reported); without it the truth's ligament follows the atlas curve too.
   std::string atlas, atlasLivers;
   int atlasTransferIterations = 100;  // L-BFGS iterations of the transfer's registration
+  // Atlas mode: the estimation's two layers of springs on the edges of the atlas' band (its mean
+  // curve -/+ sigma on this liver) instead of +-4 mm about its mean curve: spread over where the
+  // ligament may lie (thesis §4.3's band). The baseline's fixed nodes stay on the mean curve.
+  bool atlasBand = false;
   // Priors of the estimation's springs from a measured tissue: a springs.yaml of `bcassim ligament
   // springs` (its coefficients >= 0, per metre of width, scaled to ligamentLength): k_gamma's
   // mean and standard deviation, k_alpha and k_beta as the known nonlinear terms. Empty: the

@@ -59,7 +59,7 @@ void emitCoarseModel(YAML::Emitter& out, const LiverSceneSpec& spec) {
 // springs: one group per stretch of the curve, then the ligament extruded from the curve.
 void emitSprings(YAML::Emitter& out, const LiverSceneSpec& spec,
                  const std::vector<CubicSpringCoefficients>& groups, double spacing,
-                 const std::string& curveFile) {
+                 const std::string& curveFile, bool band = false) {
   out << Key << "springs" << Value << BeginMap << Key << "groups" << Value << BeginSeq;
   for (size_t g = 0; g < groups.size(); ++g) {
     out << Flow << BeginMap << Key << "coefficients" << Value << BeginSeq << groups[g].kAlpha
@@ -69,7 +69,12 @@ void emitSprings(YAML::Emitter& out, const LiverSceneSpec& spec,
   out << EndSeq << Key << "ligament" << Value << Flow << BeginMap << Key << "curve" << Value
       << curveFile << Key << "length" << Value << spec.options.ligamentLength;
   if (spacing > 0) out << Key << "spacing" << Value << spacing;
-  out << Key << "layers" << Value << 2 << EndMap << Comment("m") << EndMap;
+  out << Key << "layers" << Value << 2;
+  if (band)
+    out << Key << "band" << Value << Flow << BeginMap << Key << "lower" << Value
+        << std::string(kSpringBandLowerFile) << Key << "upper" << Value
+        << std::string(kSpringBandUpperFile) << EndMap;
+  out << EndMap << Comment("m") << EndMap;
 }
 
 // What the three scenes share (LiverScenes.cpp, addCommonParts): density, damping, time, the
@@ -207,13 +212,16 @@ void writeLiverSceneFiles(const LiverSceneSpec& spec) {
                   "ROUKF\nestimates k_gamma of each group from the {} markers (cubic term "
                   "known).\nRun: bcassim assimilate estimate.yaml --out estimate",
                   spec.estimationSprings, spec.estimationGroups.size(),
-                  spec.springCurveFile == "curve.csv"
-                      ? ""
+                  spec.springCurveFile == "curve.csv" ? ""
+                  : spec.springBandLower.rows() > 0
+                      ? " on the edges of the atlas' band (" + std::string(kSpringBandLowerFile) +
+                            ", " + kSpringBandUpperFile + ")"
                       : " on the atlas' mean curve (" + spec.springCurveFile + ")",
                   spec.markers.rows()),
       [&](YAML::Emitter& out) {
         emitCoarseModel(out, spec);
-        emitSprings(out, spec, spec.estimationGroups, 0.0, spec.springCurveFile);
+        emitSprings(out, spec, spec.estimationGroups, 0.0, spec.springCurveFile,
+                    spec.springBandLower.rows() > 0);
         emitCommonParts(out, spec);
         emitAssimilation(out, spec);
       });

@@ -115,9 +115,11 @@ Scene makeLiverEstimationScene(const LiverSceneSpec& spec) {
   addCommonParts(spec, scene);
   const int groups = static_cast<int>(spec.estimationGroups.size());
   // Spacing 0: the mean boundary edge length of the coarse mesh.
-  scene.model.springs = CubicSpringSet(
-      ligamentSprings(*spec.coarse, spec.springCurve, ligamentOptions(spec, 0.0), groups),
-      spec.estimationGroups);
+  LigamentOptions lo = ligamentOptions(spec, 0.0);
+  lo.bandLower = spec.springBandLower;
+  lo.bandUpper = spec.springBandUpper;
+  scene.model.springs = CubicSpringSet(ligamentSprings(*spec.coarse, spec.springCurve, lo, groups),
+                                       spec.estimationGroups);
   const size_t springs = scene.model.springs.springs().size();
   if (springs > static_cast<size_t>(FrozenTangent::kMaxCorrectedSprings))
     throw InputError(fmt::format(

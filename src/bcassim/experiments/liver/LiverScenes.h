@@ -16,6 +16,10 @@
 namespace bcassim {
 
 // What the scenes are made of, beyond the options they were prepared with.
+// The files of the atlas band's edges beside the prepared scenes (LiverSceneSpec::springBand*).
+inline constexpr const char* kSpringBandLowerFile = "spring_band_lower.csv";
+inline constexpr const char* kSpringBandUpperFile = "spring_band_upper.csv";
+
 struct LiverSceneSpec {
   LiverScenarioOptions options;  // dt, steps, groups, ligament length, threads, noise, ...
   std::string dir;               // where the scene files and the files they name are written
@@ -27,6 +31,9 @@ struct LiverSceneSpec {
   // or in atlas mode the atlas' mean curve on this liver (spring_curve.csv).
   Eigen::MatrixX3d springCurve;
   std::string springCurveFile = "curve.csv";
+  // Atlas mode with its band: the two edges the estimation's layers follow (LigamentOptions'
+  // bandLower/bandUpper; spring_band_lower.csv, spring_band_upper.csv); empty otherwise.
+  Eigen::MatrixX3d springBandLower, springBandUpper;
   Eigen::MatrixX3d markers;              // observed points at rest, m (markers.csv)
   Eigen::MatrixX3d validation;           // inner points, never observed, m (validation.csv)
   Eigen::MatrixX3d tumours;              // hidden points, m (tumours.csv)
