@@ -3,6 +3,7 @@
 
     examples/mestdagh-liver/run_mestdagh.py BUILD_DIR OUT_DIR [--data DIR] [--only SEQ ...]
         [--skip-verify] [--skip-register] [--floor] [--threads N] [--tangent mean|own]
+        [--footprint [full|tilt]] [--distribution surface|nodes]
 
 verify:   static solves of mesh-default under the true tool forces (`bcassim simulate`,
           verify.yaml) against positions-default.npy: relative displacement error
@@ -17,9 +18,10 @@ register: from mesh-remeshed and the point clouds only, the tool force estimated
           interpolated from the estimate (validation points mapped into mesh-remeshed) against
           the truth, next to the rest shape; force error |F_est - F_true| / |F_true|.
 
-The scenes are templates: {data}, {sequence}, {inputs}, {material}, {fixed} and {threads} are
-filled in per sequence ({material}: the law of the sequence's family, for both checks), nothing
-else changes between sequences. Derived inputs (the fixed
+The scenes are templates: {data}, {sequence}, {inputs}, {material}, {fixed}, {distribution}
+and {threads} are filled in per sequence ({material}: the law of the sequence's family, for both
+checks; {distribution}: --distribution, the same for all), nothing else changes between
+sequences. Derived inputs (the fixed
 vertices without 756, the interior nodes and their true tracks) are written under OUT_DIR, never
 into the repository. Summaries: OUT_DIR/verify.csv, OUT_DIR/register.csv and
 OUT_DIR/summary.md (the tables of docs/results.md). Needs numpy (/usr/bin/python3 has it).
@@ -212,7 +214,8 @@ TANGENT_SETTINGS = {
 }
 
 
-def register(bcassim, data, out, seq, threads, tangent="own", footprint="none"):
+def register(bcassim, data, out, seq, threads, tangent="own", footprint="none",
+             distribution="surface"):
     """Force and interior-node errors of the estimation on mesh-remeshed, per frame."""
     work = os.path.join(out, "register", seq.replace("/", "-"))
     inputs = os.path.join(work, "inputs")
@@ -235,6 +238,7 @@ def register(bcassim, data, out, seq, threads, tangent="own", footprint="none"):
     with open(scene, "w") as f:
         f.write(fill("register.yaml", data=data, sequence=seq, inputs=inputs, threads=threads,
                      material=material_of(seq), tangent_settings=TANGENT_SETTINGS[tangent],
+                     distribution=distribution,
                      footprint=FOOTPRINT_PARAMETERS[footprint]))
     run_dir = os.path.join(work, "run")
     run([bcassim, "assimilate", scene, "--out", run_dir, "-q", "--no-plots"],
@@ -294,6 +298,10 @@ def main():
                              "not only its three components: full (tilt_u, tilt_v, "
                              "concentration; the default of a bare --footprint) or tilt (the "
                              "tilts only: the force's centre moves, its spread stays)")
+    parser.add_argument("--distribution", choices=["surface", "nodes"], default="surface",
+                        help="registration: how the estimated force is shared over the zone: "
+                             "surface (a uniform traction on its faces, the same load on any "
+                             "mesh) or nodes (split evenly over its vertices)")
     a = parser.parse_args()
     bcassim = os.path.abspath(os.path.join(a.build, "bcassim"))
     data = os.path.abspath(a.data)
@@ -351,7 +359,7 @@ def main():
         for seq in a.only:
             try:
                 results.append(register(bcassim, data, out, seq, a.threads, a.tangent,
-                                        a.footprint))
+                                        a.footprint, a.distribution))
             except RunFailed as failure:
                 failed.append((seq, str(failure)))
                 print(f"register {seq}: failed, {failure}", flush=True)

@@ -152,6 +152,8 @@ TEST(LiverAtlasMode, TheBandOptionPutsTheEstimationSpringsOnTheBandsEdges) {
   const LiverScenario plain = prepareLiverScenario(o, (dir / "plain").string());
   o.atlasBand = true;
   const LiverScenario banded = prepareLiverScenario(o, (dir / "band").string());
+  EXPECT_TRUE(banded.atlas.band);
+  EXPECT_FALSE(plain.atlas.band);
 
   const Eigen::MatrixX3d curve = readPoints((dir / "band" / "spring_curve.csv").string());
   const Eigen::MatrixX3d lower = readPoints((dir / "band" / "spring_band_lower.csv").string());

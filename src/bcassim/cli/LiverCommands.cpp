@@ -49,9 +49,10 @@ void printScenario(const LiverScenario& s) {
              s.priorStiffness, s.priorStddev);
   if (s.atlas.used) {
     fmt::print(
-        "atlas mode: estimation springs on the mean curve of {} (template turned {:.1f} deg; band "
-        "σ {:.1f} mm mean; transfer {:.0f} s{})\n",
-        s.atlas.source, s.atlas.rotationDegrees, 1e3 * s.atlas.meanSigma, s.atlas.transferSeconds,
+        "atlas mode: estimation springs on the {} of {} (template turned {:.1f} deg; band σ "
+        "{:.1f} mm mean; transfer {:.0f} s{})\n",
+        s.atlas.band ? "edges of the ±σ band" : "mean curve", s.atlas.source,
+        s.atlas.rotationDegrees, 1e3 * s.atlas.meanSigma, s.atlas.transferSeconds,
         s.atlas.buildSeconds > 0 ? fmt::format(", build {:.0f} s", s.atlas.buildSeconds) : "");
     if (s.annotated)
       fmt::print("  its distance from the expert's curve: mean {:.1f} mm, max {:.1f} mm\n",

@@ -152,9 +152,9 @@ LiverReport runLiverPipeline(const LiverScenarioOptions& options, const std::str
     const LiverAtlasSprings& atlas = report.scenario.atlas;
     if (atlas.used)
       out << fmt::format(
-          "# atlas mode: springs on the mean curve of {}; distance from the expert's curve mean "
+          "# atlas mode: springs on the {} of {}; distance from the expert's curve mean "
           "{} mm, max {} mm\n",
-          atlas.source,
+          atlas.band ? "edges of the band" : "mean curve", atlas.source,
           atlas.expertDistanceMean >= 0 ? fmt::format("{:.6g}", 1e3 * atlas.expertDistanceMean)
                                         : "undefined",
           atlas.expertDistanceMax >= 0 ? fmt::format("{:.6g}", 1e3 * atlas.expertDistanceMax)

@@ -237,6 +237,7 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
       bandUpper = transferred.upper;
     }
     result.atlas.used = true;
+    result.atlas.band = o.atlasBand;
     result.atlas.rotationDegrees = transferred.rotationDegrees;
     result.atlas.buildSeconds = transferred.buildSeconds;
     result.atlas.transferSeconds = transferred.transferSeconds;

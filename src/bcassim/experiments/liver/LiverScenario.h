@@ -95,6 +95,7 @@ struct LiverAnatomy {
 struct LiverAtlasSprings {
   bool used = false;
   std::string source;          // the atlas folder, or "N livers without NAME"
+  bool band = false;           // the springs on the edges of its band (--atlas-band)
   double rotationDegrees = 0;  // of the template's rigid alignment onto this liver
   double buildSeconds = 0, transferSeconds = 0;
   double meanSigma = 0;  // m, mean standard deviation of the transferred curve (its band)
