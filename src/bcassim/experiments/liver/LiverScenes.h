@@ -15,11 +15,11 @@
 
 namespace bcassim {
 
-// What the scenes are made of, beyond the options they were prepared with.
 // The files of the atlas band's edges beside the prepared scenes (LiverSceneSpec::springBand*).
 inline constexpr const char* kSpringBandLowerFile = "spring_band_lower.csv";
 inline constexpr const char* kSpringBandUpperFile = "spring_band_upper.csv";
 
+// What the scenes are made of, beyond the options they were prepared with.
 struct LiverSceneSpec {
   LiverScenarioOptions options;  // dt, steps, groups, ligament length, threads, noise, ...
   std::string dir;               // where the scene files and the files they name are written
