@@ -252,6 +252,13 @@ def register(bcassim, data, out, seq, threads, tangent="own", footprint="none",
                       for k in range(true_forces.shape[0])])
     force_error = 100 * np.linalg.norm(force - true_forces, axis=1) / np.linalg.norm(
         true_forces, axis=1)
+    # Once the estimate has left the zero prior (frame 10 on): how much of that error is the
+    # force's size and how much its direction.
+    late, late_true = force[9:], true_forces[9:]
+    magnitude = np.linalg.norm(late, axis=1) / np.linalg.norm(late_true, axis=1) - 1
+    cosine = (late * late_true).sum(axis=1) / (np.linalg.norm(late, axis=1) *
+                                               np.linalg.norm(late_true, axis=1))
+    direction = np.degrees(np.arccos(np.clip(cosine, -1, 1)))
     errors = read_csv(os.path.join(run_dir, "errors.csv"))
     by_step = {int(r["step"]): r for r in errors}
     steps = range(1, true_forces.shape[0] + 1)
@@ -270,6 +277,8 @@ def register(bcassim, data, out, seq, threads, tangent="own", footprint="none",
         "mean_pct_of_rest": 100 * est_mean.mean() / ini_mean.mean(),
         "force_mean_pct": force_error.mean(), "force_max_pct": force_error.max(),
         "force_mean_pct_after_first": force_error[1:].mean(),
+        "force_magnitude_pct_from_frame_10": 100 * magnitude.mean(),
+        "force_direction_deg_from_frame_10": direction.mean(),
         "median_ms": float(np.median(ms)), "mean_ms": ms.mean(),
         "cloud_points_used_min": int(used.min()),
     }
@@ -370,19 +379,22 @@ def main():
                 f.write(",".join(f"{r[k]:.4g}" if isinstance(r[k], float) else str(r[k])
                                  for k in keys) + "\n")
         md += ["| sequence | interior error mean / max (mm) | rest shape mean / max (mm) | "
-               "mean, % of rest | force error mean / max (%) | ms per frame (median) |",
-               "|---|---|---|---|---|---|"]
+               "mean, % of rest | force error mean / max (%) | force from frame 10: magnitude, "
+               "direction | ms per frame (median) |",
+               "|---|---|---|---|---|---|---|"]
         for r in results:
             md.append(f"| {r['sequence']} | {r['mean_mm']:.2f} / {r['max_mm']:.2f} | "
                       f"{r['rest_mean_mm']:.2f} / {r['rest_max_mm']:.2f} | "
                       f"{r['mean_pct_of_rest']:.1f} | {r['force_mean_pct']:.1f} / "
-                      f"{r['force_max_pct']:.1f} | {r['median_ms']:.0f} |")
+                      f"{r['force_max_pct']:.1f} | "
+                      f"{r['force_magnitude_pct_from_frame_10']:+.1f} %, "
+                      f"{r['force_direction_deg_from_frame_10']:.1f}° | {r['median_ms']:.0f} |")
             print(f"register {r['sequence']}: interior {r['mean_mm']:.2f}/{r['max_mm']:.2f} mm "
                   f"(rest {r['rest_mean_mm']:.2f}/{r['rest_max_mm']:.2f}), force "
                   f"{r['force_mean_pct']:.1f}/{r['force_max_pct']:.1f} %, "
                   f"{r['median_ms']:.0f} ms/frame", flush=True)
         for seq, failure in failed:
-            md.append(f"| {seq} | failed: {failure} | | | | |")
+            md.append(f"| {seq} | failed: {failure} | | | | | |")
     with open(os.path.join(out, "summary.md"), "w") as f:
         f.write("\n".join(md) + "\n")
 
