@@ -248,5 +248,13 @@ TEST(CommandOptions, MissingInputFileIsOneLineNamingIt) {
   }
 }
 
+TEST(CommandOptions, AtlasBandWithoutAnAtlasIsOneLine) {
+  const test::CliResult r = runBcassim(freshDir(), "liver prepare phantom --atlas-band");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err,
+            "bcassim: error: liver: --atlas-band spreads the springs over an atlas' band; it "
+            "needs --atlas (or --atlas-livers)\n");
+}
+
 }  // namespace
 }  // namespace bcassim
