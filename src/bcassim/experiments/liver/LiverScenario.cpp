@@ -276,18 +276,14 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   LigamentOptions lo;
   lo.length = o.ligamentLength;
   lo.numGroups = o.groups;
-  // The baseline's fixed nodes and the anatomy follow the mean curve; with the band, the
-  // estimation's springs its edges (the same samples and groups, so the same count).
-  const LigamentSprings onCurve = buildLigamentSprings(mesh, springCurve, lo);
-  LigamentOptions banded = lo;
-  banded.bandLower = bandLower;
-  banded.bandUpper = bandUpper;
-  const LigamentSprings est =
-      o.atlasBand ? buildLigamentSprings(mesh, springCurve, banded) : onCurve;
+  // On the mean curve: the baseline's fixed nodes and the anatomy follow it. With the band the
+  // estimation's springs sit on its edges (LiverScenes.cpp builds them), but with these samples,
+  // groups and count, so these size their stiffness too.
+  const LigamentSprings est = buildLigamentSprings(mesh, springCurve, lo);
   result.curveLength = est.curveLength;
   const Vec3 truthNormal =
       atlasMode ? buildLigamentSprings(mesh, curve, lo).normals.colwise().sum().transpose()
-                : Vec3(onCurve.normals.colwise().sum().transpose());
+                : Vec3(est.normals.colwise().sum().transpose());
   const LiverAnatomy a = findAnatomy(mesh, curve, truthNormal, hasRidge ? &ridge : nullptr);
   result.anatomy = a;
 
@@ -331,8 +327,8 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   const double estSpacing = est.curveLength / perLayer;
   std::vector<int> fixedNodes;
   for (int n : boundary.nodes)
-    for (Eigen::Index s = 0; s < onCurve.attachments.rows(); ++s)
-      if ((mesh.V.row(n) - onCurve.attachments.row(s)).norm() < kFixedRadius) {
+    for (Eigen::Index s = 0; s < est.attachments.rows(); ++s)
+      if ((mesh.V.row(n) - est.attachments.row(s)).norm() < kFixedRadius) {
         fixedNodes.push_back(n);
         break;
       }
