@@ -166,7 +166,8 @@ struct LiverArguments {
     app.add_flag("--atlas-band", options.atlasBand,
                  "Atlas mode: the two layers of estimation springs on the edges of the atlas' "
                  "band (its mean curve -/+ sigma on this liver, m) instead of +-4 mm about the "
-                 "mean curve; the baseline's fixed nodes stay on the mean curve");
+                 "mean curve (the default, without this flag); the baseline's fixed nodes stay "
+                 "on the mean curve");
   }
 
   // The options with the surface resolved to a file (or the phantom).
