@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <limits>
 
 #include "FemTestHelpers.h"
@@ -153,6 +154,37 @@ TEST(StaticChord, ItsStepsToGoAreEnoughToFinishACutShortChord) {
   made.iterations = 5;
   made.residualNorm = 2;  // it grew
   EXPECT_EQ(chordStepsToGo(made), std::numeric_limits<int>::max());
+}
+
+// Where a chord stops short, Newton finishes from its last iterate (as a static filter frame's
+// mean does, MechanicalForecastModel::solveStaticFrom): the same equilibrium as Newton from the
+// chord's start, in fewer iterations, each a factorisation.
+TEST(StaticChord, NewtonFinishesAChordCutShortInFewerIterationsThanFromItsStart) {
+  const MechanicalModel model = chordCylinder("neohookean");
+  const Eigen::VectorXd before = newtonAt(model, 1.0);
+  const auto tangent =
+      FrozenTangent::buildStatic(model, {before, Eigen::VectorXd::Zero(before.size()), 1.0});
+  Eigen::VectorXd loadBefore;
+  model.externalForces(1.0, loadBefore);
+  const StaticOptions options{1e-10, 50, 1};
+  StaticSolver chord(model, makeLinearSolver("cholmod"), options);
+  Eigen::VectorXd fromChord = before;
+  const StaticReport cut = chord.chordSolve(model, 5.0, fromChord, *tangent, 10);
+  ASSERT_FALSE(cut.converged);
+  ASSERT_LT(cut.residualNorm, 0.5 * cut.initialResidualNorm);
+
+  const auto newton = [&](Eigen::VectorXd& x) {
+    StaticSolver solver(model, makeLinearSolver("cholmod"), options);
+    solver.continueFromLoad(loadBefore);
+    return solver.solve(model, 5.0, x).iterations;
+  };
+  Eigen::VectorXd fromBefore = before;
+  const int itersFromBefore = newton(fromBefore);
+  const int itersFromChord = newton(fromChord);
+  std::cout << "[ chord then Newton ] Newton iterations from the last equilibrium "
+            << itersFromBefore << ", from the chord's end " << itersFromChord << "\n";
+  EXPECT_LT(itersFromChord, itersFromBefore);
+  EXPECT_LT((fromChord - fromBefore).norm(), 1e-7 * (fromBefore - before).norm());
 }
 
 TEST(StaticChord, AStepThatInvertsAnElementThrows) {

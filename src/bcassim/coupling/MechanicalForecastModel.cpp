@@ -201,6 +201,25 @@ void MechanicalForecastModel::solveStatic(MechanicalState& s, double t) {
   s.t = t;
 }
 
+// The analysed mean's equilibrium by Newton where the chord did not reach it: from the chord's
+// last iterate (its steps lowered the residual or the energy, so it is nearer than the last
+// frame's equilibrium: fewer Newton iterations, each a factorisation), else, or where Newton
+// fails from there, from the last frame's equilibrium.
+void MechanicalForecastModel::solveStaticFrom(Eigen::VectorXd& chordEnd, double t) {
+  if (chordEnd.size() > 0) {
+    MechanicalState from = reference_;
+    from.x = std::move(chordEnd);
+    try {
+      solveStatic(from, t);
+      reference_ = std::move(from);
+      return;
+    } catch (const StepFailure&) {
+      ++stats_.stepRetries;
+    }
+  }
+  solveStatic(reference_, t);
+}
+
 // With the mean's tangent, a sigma point's frame is one chord step from the analysed mean's
 // equilibrium: the equilibrium linearised about the mean, as the filter's sigma points only
 // probe the parameters' spread about it. A step that inverts an element solves in full.
@@ -240,8 +259,9 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
     // A build due at the end of this frame serves its mean already: the mean's chord, which
     // stalls as its tangent ages, is the frame's cost (the sigma points took the older one).
     if (options_.meanTangent) adoptBuildIfDue(shared_->stepsSinceTangent + 1);
-    const bool chorded = chordMean(t);
-    if (!chorded) solveStatic(reference_, t);
+    Eigen::VectorXd chordEnd;
+    const bool chorded = chordMean(t, chordEnd);
+    if (!chorded) solveStaticFrom(chordEnd, t);
     model_.externalForces(reference_.t, referenceLoad_);
     shared_->staticMean = reference_;
     shared_->staticMeanLoad = referenceLoad_;
@@ -267,8 +287,9 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
 // than a factorisation); otherwise, or if that round does not converge either, the tangent is
 // rebuilt at their last iterate (it had grown too far from this frame's: it is then the new mean
 // tangent) and they go on once. False (reference_ untouched) where that does not converge either,
-// or a step inverts an element: Newton solves it then.
-bool MechanicalForecastModel::chordMean(double t) {
+// or a step inverts an element: Newton solves it then, from `end` (set to their last iterate
+// when they took steps and none failed, else left empty).
+bool MechanicalForecastModel::chordMean(double t, Eigen::VectorXd& end) {
   if (!options_.meanTangent || !shared_->tangent) return false;
   constexpr int kChordIterations = 10;
   const auto start = Clock::now();
@@ -276,6 +297,7 @@ bool MechanicalForecastModel::chordMean(double t) {
   bool converged = false;
   bool continued = false;
   bool rebuilt = false;
+  bool failed = false;  // a step inverted an element or a tangent could not be factorised
   meanChordSteps_ = 0;
   try {
     for (;;) {
@@ -297,10 +319,12 @@ bool MechanicalForecastModel::chordMean(double t) {
     }
   } catch (const NumericalError&) {
     converged = false;
+    failed = true;
   }
   stats_.solveSeconds += secondsSince(start);
   if (!converged) {
     ++stats_.stepRetries;
+    if (meanChordSteps_ > 0 && !failed) end = std::move(x);
     return false;
   }
   reference_.x = std::move(x);

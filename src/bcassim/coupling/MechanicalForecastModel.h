@@ -143,7 +143,8 @@ class MechanicalForecastModel final : public ForecastModel {
   void staticForecast(const Eigen::VectorXd& params, Eigen::VectorXd& newState,
                       Eigen::VectorXd& observable);
   void staticEndStep(const Eigen::VectorXd& params);
-  bool chordMean(double t);
+  bool chordMean(double t, Eigen::VectorXd& end);
+  void solveStaticFrom(Eigen::VectorXd& chordEnd, double t);
   void rebuildMeanTangentAt(const MechanicalState& at);
   std::shared_ptr<const FrozenTangent> makeTangent(const MechanicalModel& model,
                                                    const MechanicalState& state,
