@@ -202,9 +202,10 @@ void MechanicalForecastModel::solveStatic(MechanicalState& s, double t) {
 }
 
 // The analysed mean's equilibrium by Newton where the chord did not reach it: from the chord's
-// last iterate (its steps lowered the residual or the energy, so it is nearer than the last
-// frame's equilibrium: fewer Newton iterations, each a factorisation), else, or where Newton
-// fails from there, from the last frame's equilibrium.
+// last iterate (its steps lowered the residual or the energy, so it is mostly nearer than the
+// last frame's equilibrium: fewer Newton iterations, each a factorisation; not always, see
+// docs/benchmarks.md §6), else, or where Newton fails from there, from the last frame's
+// equilibrium.
 void MechanicalForecastModel::solveStaticFrom(Eigen::VectorXd& chordEnd, double t) {
   if (chordEnd.size() > 0) {
     MechanicalState from = reference_;
