@@ -279,11 +279,11 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   // On the mean curve: the baseline's fixed nodes and the anatomy follow it. With the band the
   // estimation's springs sit on its edges (LiverScenes.cpp builds them), but with these samples,
   // groups and count, so these size their stiffness too.
-  const LigamentSprings est = buildLigamentSprings(mesh, springCurve, lo);
-  result.curveLength = est.curveLength;
+  const LigamentSprings onCurve = buildLigamentSprings(mesh, springCurve, lo);
+  result.curveLength = onCurve.curveLength;
   const Vec3 truthNormal =
       atlasMode ? buildLigamentSprings(mesh, curve, lo).normals.colwise().sum().transpose()
-                : Vec3(est.normals.colwise().sum().transpose());
+                : Vec3(onCurve.normals.colwise().sum().transpose());
   const LiverAnatomy a = findAnatomy(mesh, curve, truthNormal, hasRidge ? &ridge : nullptr);
   result.anatomy = a;
 
@@ -323,12 +323,12 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
       rowsOf(mesh.V, farthestPointSample(mesh, rest, o.validationPoints));
   const Eigen::MatrixX3d tumours = rowsOf(mesh.V, tumourNodes);
 
-  const double perLayer = static_cast<double>(est.springs.springs().size()) / lo.layers;
-  const double estSpacing = est.curveLength / perLayer;
+  const double perLayer = static_cast<double>(onCurve.springs.springs().size()) / lo.layers;
+  const double estSpacing = onCurve.curveLength / perLayer;
   std::vector<int> fixedNodes;
   for (int n : boundary.nodes)
-    for (Eigen::Index s = 0; s < est.attachments.rows(); ++s)
-      if ((mesh.V.row(n) - est.attachments.row(s)).norm() < kFixedRadius) {
+    for (Eigen::Index s = 0; s < onCurve.attachments.rows(); ++s)
+      if ((mesh.V.row(n) - onCurve.attachments.row(s)).norm() < kFixedRadius) {
         fixedNodes.push_back(n);
         break;
       }
@@ -372,7 +372,7 @@ LiverSceneSpec prepareLiverSceneSpec(const LiverScenarioOptions& o, const std::s
   spec.validation = validation;
   spec.tumours = tumours;
   spec.ligamentNodes = fixedNodes;
-  spec.estimationSprings = static_cast<int>(est.springs.springs().size());
+  spec.estimationSprings = static_cast<int>(onCurve.springs.springs().size());
   // Stiffness per spring: (N/m per m of curve) x spacing / layers; cubic term from the
   // stiffening stretch e0 (ka e0^3 = kg e0).
   const double e0 = o.stiffeningStretch;
