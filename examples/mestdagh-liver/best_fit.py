@@ -94,13 +94,6 @@ def locate(W, T, points):
     return tets, weights
 
 
-def boundary_faces(T):
-    faces = np.sort(np.concatenate([T[:, [0, 1, 2]], T[:, [0, 1, 3]], T[:, [0, 2, 3]],
-                                    T[:, [1, 2, 3]]]), axis=1)
-    unique, counts = np.unique(faces, axis=0, return_counts=True)
-    return unique[counts == 1]
-
-
 def shares_of(name, data, seq, W, T):
     """Nodal shares (sum 1) of a unit total force on mesh-remeshed."""
     shares = np.zeros(len(W))
@@ -114,7 +107,7 @@ def shares_of(name, data, seq, W, T):
         return shares / shares.sum()
     listed = np.zeros(len(W), dtype=bool)
     listed[zone] = True
-    faces = boundary_faces(T)
+    faces = rm.boundary_faces(T)
     faces = faces[listed[faces].all(axis=1)]
     area = 0.5 * np.linalg.norm(np.cross(W[faces[:, 1]] - W[faces[:, 0]],
                                          W[faces[:, 2]] - W[faces[:, 0]]), axis=1)

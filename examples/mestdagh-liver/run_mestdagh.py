@@ -57,12 +57,17 @@ def read_msh_nodes_and_tets(path):
     return V, np.array(T) - 1
 
 
-def boundary_nodes(T):
-    """Nodes on faces that belong to one tet only."""
+def boundary_faces(T):
+    """Faces (sorted vertex ids) that belong to one tet only."""
     faces = np.sort(np.concatenate([T[:, [0, 1, 2]], T[:, [0, 1, 3]], T[:, [0, 2, 3]],
                                     T[:, [1, 2, 3]]]), axis=1)
     unique, counts = np.unique(faces, axis=0, return_counts=True)
-    return np.unique(unique[counts == 1])
+    return unique[counts == 1]
+
+
+def boundary_nodes(T):
+    """Nodes on faces that belong to one tet only."""
+    return np.unique(boundary_faces(T))
 
 
 def fill(template, **values):

@@ -89,7 +89,7 @@ def test_the_cloud_fit_recovers_a_known_force():
         u = np.zeros(3 * len(X))
         u[free] = solver.solve(f.ravel()[free])
         basis[c] = u.reshape(-1, 3)
-    faces = best_fit.boundary_faces(T)
+    faces = best_fit.rm.boundary_faces(T)
     # The camera sees the top and two sides (x = 0.1 m, y = 0.1 m): each force component moves one
     # of them along its normal.
     on = lambda axis: (X[faces][:, :, axis] > 0.1 - 1e-9).all(axis=1)  # noqa: E731
