@@ -43,7 +43,6 @@ from scipy.spatial import cKDTree
 
 import run_mestdagh as rm
 
-LINEAR = ["linear/s1", "linear/s2", "linear/s3", "linear/s4", "linear/s5"]
 YOUNG, POISSON = 20e3, 0.45  # Pa, -: rm.material_of's linear law
 FIRST_LATE_FRAME = 9  # 0-based: "from frame 10 on", as register.csv
 CANDIDATES = 12  # triangles, by centroid, searched for each cloud point's closest point
@@ -254,12 +253,20 @@ def main():
     parser.add_argument("out", help="output folder (best_fit.csv)")
     parser.add_argument("--data", default=os.path.join(here, "..", "..", "..", "shared", "data",
                                                        "mestdagh-liver"))
-    parser.add_argument("--only", nargs="+", default=LINEAR, choices=LINEAR)
+    parser.add_argument("--only", nargs="+", metavar="linear/NAME",
+                        help="these sequences (default: every linear one of the data folder)")
     parser.add_argument("--shares", nargs="+", default=["surface", "nodes", "tool"],
                         choices=["surface", "nodes", "tool"])
     a = parser.parse_args()
     if not os.path.isfile(os.path.join(a.data, "mesh-remeshed", "liver.msh")):
         sys.exit(f"{a.data}: no mesh-remeshed/liver.msh (expected the mestdagh-liver data folder)")
+    a.data = os.path.normpath(a.data)
+    if a.only is None:
+        a.only = [s for s in rm.sequences_in(a.data) if s.startswith("linear/")]
+    rm.check_sequences(a.data, a.only)
+    if any(not s.startswith("linear/") for s in a.only):
+        sys.exit(f"{a.data}: {', '.join(s for s in a.only if not s.startswith('linear/'))}: "
+                 "not a linear sequence (this fit's model is linear elastic)")
     os.makedirs(a.out, exist_ok=True)
     model = Model(a.data)
     fields = ["sequence", "shares", "fit", "force_error_mean_pct", "magnitude_from_frame10_pct",

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The mestdagh-liver benchmark (../shared/data/mestdagh-liver, made with FEniCS) with bcassim.
 
-    examples/mestdagh-liver/run_mestdagh.py BUILD_DIR OUT_DIR [--data DIR] [--only SEQ ...]
+    examples/mestdagh-liver/run_mestdagh.py BUILD_DIR OUT_DIR [--data DIR] [--only LAW/NAME ...]
         [--skip-verify] [--skip-register] [--floor] [--threads N] [--tangent mean|own]
         [--footprint [full|tilt]] [--distribution surface|nodes]
 
@@ -25,9 +25,13 @@ sequences. Derived inputs (the fixed
 vertices without 756, the interior nodes and their true tracks) are written under OUT_DIR, never
 into the repository. Summaries: OUT_DIR/verify.csv, OUT_DIR/register.csv and
 OUT_DIR/summary.md (the tables of docs/results.md). Needs numpy (/usr/bin/python3 has it).
+
+The sequences are those the data folder holds (every sequences/LAW/NAME with a true-forces.npy,
+LAW linear or neohookean), unless --only names some.
 """
 import argparse
 import csv
+import glob
 import os
 import subprocess
 import sys
@@ -35,8 +39,7 @@ import sys
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SEQUENCES = ["linear/s1", "linear/s2", "linear/s3", "linear/s4", "linear/s5",
-             "neohookean/s1", "neohookean/s2", "neohookean/s3"]
+LAWS = ("linear", "neohookean")  # the data README's two families, whose constants material_of knows
 DT = 1.0  # s per frame: the scenes' time.dt (random walks are per sqrt(s) = per frame)
 
 
@@ -94,6 +97,30 @@ def run(cmd, log):
 def read_csv(path):
     with open(path) as f:
         return list(csv.DictReader(f))
+
+
+def sequences_in(data):
+    """The data folder's sequences as LAW/NAME, sorted: every sequences/LAW/NAME holding a
+    true-forces.npy (a copy with more or fewer of them runs as it is, not against a fixed list)."""
+    root = os.path.join(data, "sequences")
+    return sorted(os.path.relpath(os.path.dirname(p), root).replace(os.sep, "/")
+                  for p in glob.glob(os.path.join(root, "*", "*", "true-forces.npy")))
+
+
+def check_sequences(data, sequences):
+    """Stops with one line naming the first sequence that is not in the data folder or whose law
+    is not one of LAWS (its constants would be unknown), or when there is none."""
+    if not sequences:
+        sys.exit(f"{data}: no sequences/LAW/NAME/true-forces.npy (expected the mestdagh-liver "
+                 "data folder)")
+    for seq in sequences:
+        folder = os.path.join(data, "sequences", seq)
+        if not os.path.isfile(os.path.join(folder, "true-forces.npy")):
+            sys.exit(f"{folder}: no true-forces.npy (expected a sequence LAW/NAME of the data "
+                     "folder)")
+        if seq.split("/")[0] not in LAWS:
+            sys.exit(f"{folder}: law '{seq.split('/')[0]}' unknown (expected "
+                     f"{' or '.join(LAWS)}, the data README's families)")
 
 
 def material_of(seq):
@@ -295,7 +322,8 @@ def main():
     parser.add_argument("out")
     parser.add_argument("--data", default=os.path.join(HERE, "..", "..", "..", "shared", "data",
                                                        "mestdagh-liver"))
-    parser.add_argument("--only", nargs="*", default=SEQUENCES)
+    parser.add_argument("--only", nargs="+", metavar="LAW/NAME",
+                        help="these sequences (default: all of the data folder's)")
     parser.add_argument("--skip-verify", action="store_true")
     parser.add_argument("--skip-register", action="store_true")
     parser.add_argument("--floor", action="store_true",
@@ -320,6 +348,9 @@ def main():
     bcassim = os.path.abspath(os.path.join(a.build, "bcassim"))
     data = os.path.abspath(a.data)
     out = os.path.abspath(a.out)
+    if a.only is None:
+        a.only = sequences_in(data)
+    check_sequences(data, a.only)
     os.makedirs(out, exist_ok=True)
     md = []
     if not a.skip_verify:
