@@ -15,6 +15,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/mechanics/ArenaLoop.h"
+#include "bcassim/mechanics/solvers/SupernodalCholesky.h"
 
 namespace bcassim {
 namespace {
@@ -382,6 +383,9 @@ struct CholeskyFactor::Symbolic {
   // The supernodes' split for solves on several threads, made by the first such solve.
   mutable std::once_flag splitMade;
   mutable std::unique_ptr<SubtreeSplit> split;
+  // The threaded numeric factorisation's plan, made by its first use for the pattern it met.
+  mutable std::once_flag planMade;
+  mutable std::unique_ptr<SupernodalCholesky> plan;
   ~Symbolic() { cholmod_free_factor(&L, &common.c); }
 };
 
@@ -396,6 +400,8 @@ struct CholeskyFactor::Numeric {
   cholmod_factor* L = nullptr;  // numerical factor, valid when factorized
   bool factorized = false;
   std::unique_ptr<SingleCopy> single = std::make_unique<SingleCopy>();
+  std::unique_ptr<tbb::task_arena> arena;  // factorize(A, threads)'s, and its working memory
+  SupernodalCholesky::Scratch scratch;
   void release() {
     cholmod_free_factor(&L, &common.c);
     factorized = false;
@@ -468,7 +474,7 @@ void CholeskyFactor::analyzePattern(const SparseMatrix& A) {
   symbolic_ = std::move(symbolic);
 }
 
-void CholeskyFactor::factorize(const SparseMatrix& A) {
+void CholeskyFactor::factorizeWithCholmod(const SparseMatrix& A) {
   if (!matchesPattern(A)) analyzePattern(A);
   Numeric& num = *numeric_;
   num.factorized = false;
@@ -488,6 +494,47 @@ void CholeskyFactor::factorize(const SparseMatrix& A) {
   }
   if (!ok || num.common.c.status < CHOLMOD_OK) num.release();
   check(ok, num.common.c, "Cholesky factorisation");
+  num.factorized = true;
+}
+
+void CholeskyFactor::factorize(const SparseMatrix& A, int threads) {
+  threads = std::max(threads, 1);
+  if (!matchesPattern(A)) analyzePattern(A);
+  const Symbolic& symbolic = *symbolic_;
+  std::call_once(symbolic.planMade, [&] {
+    const SubtreeSplit& split = subtreeSplit();
+    try {
+      symbolic.plan = std::make_unique<SupernodalCholesky>(*symbolic.L, A, split.groups, split.top);
+    } catch (const std::invalid_argument&) {
+      // A pattern the plan cannot take (a factor that is not supernodal with sorted rows, an
+      // entry outside the analysis): CHOLMOD's factorisation serves.
+    }
+  });
+  if (!symbolic.plan || !symbolic.plan->matches(A)) return factorizeWithCholmod(A);
+  Numeric& num = *numeric_;
+  num.factorized = false;
+  num.single = std::make_unique<SingleCopy>();
+  if (num.L == nullptr) {
+    num.L = cholmod_copy_factor(symbolic.L, &num.common.c);
+    check(num.L != nullptr, num.common.c, "Cholesky factor allocation");
+  }
+  if (num.L->xtype == CHOLMOD_PATTERN) {
+    // Values allocated in the supernodal LL^T layout that the plan writes.
+    const int ok = cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, num.L, &num.common.c);
+    if (!ok) num.release();
+    check(ok, num.common.c, "Cholesky factor allocation");
+  }
+  limitCholmodThreads();
+  if (!num.arena || num.arena->max_concurrency() != threads)
+    num.arena = std::make_unique<tbb::task_arena>(threads);
+  const std::int64_t column =
+      symbolic.plan->factorize(A, static_cast<double*>(num.L->x), *num.arena, num.scratch);
+  if (column >= 0) {
+    num.release();
+    throw NumericalError("Cholesky factorisation: matrix is not positive definite (pivot " +
+                         std::to_string(column) + " of " + std::to_string(A.rows()) + ")");
+  }
+  num.L->minor = num.L->n;
   num.factorized = true;
 }
 
@@ -545,7 +592,7 @@ void CholeskyFactor::Workspace::setThreads(int threads) {
 
 const SubtreeSplit& CholeskyFactor::subtreeSplit() const {
   std::call_once(symbolic_->splitMade, [&] {
-    symbolic_->split = std::make_unique<SubtreeSplit>(splitSupernodes(*numeric_->L));
+    symbolic_->split = std::make_unique<SubtreeSplit>(splitSupernodes(*symbolic_->L));
   });
   return *symbolic_->split;
 }

@@ -42,11 +42,18 @@ class CholeskyFactor {
   // Fill-reducing ordering (AMD or METIS, as CHOLMOD chooses) and supernodal symbolic analysis of
   // the pattern of A. A is symmetric with both triangles stored; only the lower one is read.
   void analyzePattern(const SparseMatrix& A);
-  // Numerical factorisation of A, whose pattern was analysed (analyses it first if not).
-  // Throws NumericalError if A is not positive definite; the factor is then unusable.
-  // The BLAS work runs on the calling thread; CHOLMOD 3 itself runs a few O(n) copy loops under
-  // OpenMP here (solves never do).
-  void factorize(const SparseMatrix& A);
+  // Numerical factorisation of A, whose pattern was analysed (analyses it first if not), on up
+  // to `threads` threads: bcassim's left-looking supernodal factorisation (SupernodalCholesky)
+  // into CHOLMOD's layout, 1.6x faster than CHOLMOD's own on one thread (docs/benchmarks.md §6),
+  // the elimination tree's 4 fixed groups of subtrees concurrently, then the supernodes above
+  // them. The same bits for any number of threads. Throws NumericalError if A is not positive
+  // definite; the factor is then unusable. A pattern other than the first one factorised (same
+  // size and entry count, other rows) goes to CHOLMOD's factorisation.
+  void factorize(const SparseMatrix& A, int threads = 1);
+  // CHOLMOD's numerical factorisation (the reference of the tests and benchmarks; the same
+  // errors). The BLAS work runs on the calling thread; CHOLMOD 3 itself runs a few O(n) copy
+  // loops under OpenMP here (solves never do).
+  void factorizeWithCholmod(const SparseMatrix& A);
   // A new, unfactorised CholeskyFactor that shares this one's symbolic analysis (read-only), so
   // factorising it costs only the numerical phase. This factor is left untouched.
   std::shared_ptr<CholeskyFactor> cloneAnalysis() const;
