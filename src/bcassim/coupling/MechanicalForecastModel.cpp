@@ -106,20 +106,20 @@ ForecastStats MechanicalForecastModel::takeStats() {
 // The mean's tangent: the implicit-Euler W of a step of dt, or the stiffness K of a static frame;
 // with tangentSinglePrecision its factor's float copy too, made here (on the building thread).
 std::shared_ptr<const FrozenTangent> MechanicalForecastModel::makeTangent(
-    const MechanicalModel& model, const MechanicalState& state,
-    const CholeskyFactor* analysis) const {
-  if (statics_) return FrozenTangent::buildStatic(model, state, analysis);
+    const MechanicalModel& model, const MechanicalState& state, const CholeskyFactor* analysis,
+    int threads) const {
+  if (statics_) return FrozenTangent::buildStatic(model, state, analysis, threads);
   std::shared_ptr<const FrozenTangent> built =
-      FrozenTangent::build(model, state, integrator_.options().dt, analysis);
+      FrozenTangent::build(model, state, integrator_.options().dt, analysis, threads);
   if (options_.tangentSinglePrecision) built->factor().prepareSinglePrecision();
   return built;
 }
 
-void MechanicalForecastModel::buildMeanTangent() {
+void MechanicalForecastModel::buildMeanTangent(int threads) {
   const CholeskyFactor* analysis = shared_->tangent ? &shared_->tangent->factor() : nullptr;
   shared_->stepsSinceTangent = 0;
   try {
-    adoptTangent(makeTangent(model_, reference_, analysis));
+    adoptTangent(makeTangent(model_, reference_, analysis, threads));
   } catch (const NumericalError&) {
     // Static frames do without (every forecast then solves its own equilibrium).
     if (!shared_->tangent && !statics_) throw;  // nothing to fall back on
@@ -262,7 +262,17 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
     if (options_.meanTangent) adoptBuildIfDue(shared_->stepsSinceTangent + 1);
     Eigen::VectorXd chordEnd;
     const bool chorded = chordMean(t, chordEnd);
-    if (!chorded) solveStaticFrom(chordEnd, t);
+    if (!chorded) {
+      // Newton's factorisations while the other workers wait: on their threads too.
+      statics_->linearSolver().setFactorThreads(inFrameThreads());
+      try {
+        solveStaticFrom(chordEnd, t);
+      } catch (...) {
+        statics_->linearSolver().setFactorThreads(1);
+        throw;
+      }
+      statics_->linearSolver().setFactorThreads(1);
+    }
     model_.externalForces(reference_.t, referenceLoad_);
     shared_->staticMean = reference_;
     shared_->staticMeanLoad = referenceLoad_;
@@ -274,7 +284,7 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
       // background build would serve N frames later, and the frames between fell back to Newton
       // too: 250-400 ms each at the mestdagh liver's start.)
       discardPendingTangent();
-      buildMeanTangent();
+      buildMeanTangent(inFrameThreads());
     }
   } else {
     reference_ = shared_->staticMean;
@@ -339,7 +349,8 @@ bool MechanicalForecastModel::chordMean(double t, Eigen::VectorXd& end) {
 void MechanicalForecastModel::rebuildMeanTangentAt(const MechanicalState& at) {
   discardPendingTangent();
   shared_->stepsSinceTangent = 0;
-  adoptTangent(FrozenTangent::buildStatic(model_, at, &shared_->tangent->factor()));
+  adoptTangent(
+      FrozenTangent::buildStatic(model_, at, &shared_->tangent->factor(), inFrameThreads()));
 }
 
 void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,

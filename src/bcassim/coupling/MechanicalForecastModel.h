@@ -2,6 +2,7 @@
 // given state and parameters, or solve one quasi-static frame; expose marker or node positions)
 // over a MechanicalModel and implicit Euler or the static solver.
 #pragma once
+#include <algorithm>
 #include <future>
 #include <memory>
 #include <optional>
@@ -146,10 +147,14 @@ class MechanicalForecastModel final : public ForecastModel {
   bool chordMean(double t, Eigen::VectorXd& end);
   void solveStaticFrom(Eigen::VectorXd& chordEnd, double t);
   void rebuildMeanTangentAt(const MechanicalState& at);
+  // `threads`: its factorisation's (1 on the background builder, which runs beside the workers).
   std::shared_ptr<const FrozenTangent> makeTangent(const MechanicalModel& model,
                                                    const MechanicalState& state,
-                                                   const CholeskyFactor* analysis) const;
-  void buildMeanTangent();
+                                                   const CholeskyFactor* analysis,
+                                                   int threads = 1) const;
+  void buildMeanTangent(int threads = 1);
+  // Threads for the work of the analysed mean while the other workers wait (static frames).
+  int inFrameThreads() const { return std::max(1, options_.meanThreads); }
   void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);
   void refreshMeanTangent();
   void adoptBuildIfDue(int stepsSince);

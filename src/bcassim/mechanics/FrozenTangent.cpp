@@ -96,20 +96,23 @@ void FrozenTangent::moveKnownSpringColumns(const MechanicalModel& model, const E
 
 std::shared_ptr<const FrozenTangent> FrozenTangent::build(const MechanicalModel& model,
                                                           const MechanicalState& state, double dt,
-                                                          const CholeskyFactor* analysis) {
-  return assemble(model, state, dt, false, analysis);
+                                                          const CholeskyFactor* analysis,
+                                                          int threads) {
+  return assemble(model, state, dt, false, analysis, threads);
 }
 
 std::shared_ptr<const FrozenTangent> FrozenTangent::buildStatic(const MechanicalModel& model,
                                                                 const MechanicalState& state,
-                                                                const CholeskyFactor* analysis) {
-  return assemble(model, state, 0.0, true, analysis);
+                                                                const CholeskyFactor* analysis,
+                                                                int threads) {
+  return assemble(model, state, 0.0, true, analysis, threads);
 }
 
 std::shared_ptr<const FrozenTangent> FrozenTangent::assemble(const MechanicalModel& model,
                                                              const MechanicalState& state,
                                                              double dt, bool isStatic,
-                                                             const CholeskyFactor* analysis) {
+                                                             const CholeskyFactor* analysis,
+                                                             int threads) {
   const auto start = Clock::now();
   auto t = std::make_shared<FrozenTangent>();
   t->static_ = isStatic;
@@ -129,7 +132,7 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::assemble(const MechanicalMod
     t->factor_ = std::make_shared<CholeskyFactor>();
     t->factor_->analyzePattern(eliminated);
   }
-  t->factor_->factorize(eliminated);
+  t->factor_->factorize(eliminated, threads);
   const auto factorized = Clock::now();
 
   const auto& springs = model.springs.springs();

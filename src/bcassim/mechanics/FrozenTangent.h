@@ -23,14 +23,17 @@ class FrozenTangent {
   // correction (see stepWithTangent). `analysis`, if given, is a factor whose symbolic analysis
   // of the model's pattern is reused. dt in s. Throws NumericalError if A is not positive
   // definite, InvertedElementError if an element is inverted at state.x.
+  // `threads`: the factorisation's (CholeskyFactor::factorize; the same result for any count).
   static std::shared_ptr<const FrozenTangent> build(const MechanicalModel& model,
                                                     const MechanicalState& state, double dt,
-                                                    const CholeskyFactor* analysis = nullptr);
+                                                    const CholeskyFactor* analysis = nullptr,
+                                                    int threads = 1);
   // The same for static equilibria: A = K (stiffnessScale() 1, dt() 0), for
   // StaticSolver::chordSolve. Throws NumericalError if K is not positive definite.
   static std::shared_ptr<const FrozenTangent> buildStatic(const MechanicalModel& model,
                                                           const MechanicalState& state,
-                                                          const CholeskyFactor* analysis = nullptr);
+                                                          const CholeskyFactor* analysis = nullptr,
+                                                          int threads = 1);
   bool isStatic() const { return static_; }
 
   double dt() const { return dt_; }
@@ -83,7 +86,7 @@ class FrozenTangent {
   static std::shared_ptr<const FrozenTangent> assemble(const MechanicalModel& model,
                                                        const MechanicalState& state, double dt,
                                                        bool isStatic,
-                                                       const CholeskyFactor* analysis);
+                                                       const CholeskyFactor* analysis, int threads);
 
   bool static_ = false;
   double diagonalNorm_ = 0;

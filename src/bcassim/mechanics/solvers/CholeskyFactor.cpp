@@ -386,6 +386,27 @@ struct CholeskyFactor::Symbolic {
   // The threaded numeric factorisation's plan, made by its first use for the pattern it met.
   mutable std::once_flag planMade;
   mutable std::unique_ptr<SupernodalCholesky> plan;
+  // Value arrays (L's xsize doubles) of released factors of this analysis, for the next ones: a
+  // build thread's 10-25 MB blocks would otherwise be unmapped when freed (glibc serves them from
+  // mmap outside the main arena) and the next build fault in fresh pages (docs/benchmarks.md §6).
+  static constexpr size_t kSpareValues = 4;
+  mutable std::mutex spareMutex;
+  mutable std::vector<std::unique_ptr<double[]>> spareValues;
+  std::unique_ptr<double[]> takeValues() const {
+    {
+      const std::lock_guard<std::mutex> lock(spareMutex);
+      if (!spareValues.empty()) {
+        std::unique_ptr<double[]> values = std::move(spareValues.back());
+        spareValues.pop_back();
+        return values;
+      }
+    }
+    return std::make_unique<double[]>(L->xsize);
+  }
+  void giveBack(std::unique_ptr<double[]> values) const {
+    const std::lock_guard<std::mutex> lock(spareMutex);
+    if (spareValues.size() < kSpareValues) spareValues.push_back(std::move(values));
+  }
   ~Symbolic() { cholmod_free_factor(&L, &common.c); }
 };
 
@@ -400,9 +421,17 @@ struct CholeskyFactor::Numeric {
   cholmod_factor* L = nullptr;  // numerical factor, valid when factorized
   bool factorized = false;
   std::unique_ptr<SingleCopy> single = std::make_unique<SingleCopy>();
-  std::unique_ptr<tbb::task_arena> arena;  // factorize(A, threads)'s, and its working memory
-  SupernodalCholesky::Scratch scratch;
+  std::unique_ptr<tbb::task_arena> arena;  // factorize(A, threads)'s
+  // L's values when factorize() attached them from the analysis' spares (else CHOLMOD owns them).
+  std::unique_ptr<double[]> values;
+  std::shared_ptr<const Symbolic> valuesFrom;
   void release() {
+    if (values && L != nullptr) {
+      L->x = nullptr;  // not CHOLMOD's to free
+      L->xtype = CHOLMOD_PATTERN;
+      valuesFrom->giveBack(std::move(values));
+      valuesFrom.reset();
+    }
     cholmod_free_factor(&L, &common.c);
     factorized = false;
     single = std::make_unique<SingleCopy>();
@@ -519,16 +548,19 @@ void CholeskyFactor::factorize(const SparseMatrix& A, int threads) {
     check(num.L != nullptr, num.common.c, "Cholesky factor allocation");
   }
   if (num.L->xtype == CHOLMOD_PATTERN) {
-    // Values allocated in the supernodal LL^T layout that the plan writes.
-    const int ok = cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, num.L, &num.common.c);
-    if (!ok) num.release();
-    check(ok, num.common.c, "Cholesky factor allocation");
+    // The supernodal LL^T values that the plan writes, from the analysis' spares: a symbolic
+    // supernodal factor becomes a numeric one by its values alone (cholmod_change_factor sets
+    // only x and xtype).
+    num.values = symbolic.takeValues();
+    num.valuesFrom = symbolic_;
+    num.L->x = num.values.get();
+    num.L->xtype = CHOLMOD_REAL;
   }
   limitCholmodThreads();
   if (!num.arena || num.arena->max_concurrency() != threads)
     num.arena = std::make_unique<tbb::task_arena>(threads);
   const std::int64_t column =
-      symbolic.plan->factorize(A, static_cast<double*>(num.L->x), *num.arena, num.scratch);
+      symbolic.plan->factorize(A, static_cast<double*>(num.L->x), *num.arena);
   if (column >= 0) {
     num.release();
     throw NumericalError("Cholesky factorisation: matrix is not positive definite (pivot " +
@@ -719,7 +751,8 @@ std::int64_t CholeskyFactor::factorNonZeros() const {
   return symbolic_ ? symbolic_->factorNonZeros : 0;
 }
 
-void factorizeUnshared(std::shared_ptr<CholeskyFactor>& factor, const SparseMatrix& A) {
+void factorizeUnshared(std::shared_ptr<CholeskyFactor>& factor, const SparseMatrix& A,
+                       int threads) {
   if (!factor) {
     factor = std::make_shared<CholeskyFactor>();
   } else if (factor.use_count() > 1) {
@@ -730,7 +763,7 @@ void factorizeUnshared(std::shared_ptr<CholeskyFactor>& factor, const SparseMatr
     // owners who released the factor.
     std::atomic_thread_fence(std::memory_order_acquire);
   }
-  factor->factorize(A);
+  factor->factorize(A, threads);
 }
 
 }  // namespace bcassim

@@ -114,7 +114,8 @@ class CholeskyFactor {
 
 // Factorises A into factor without disturbing anyone else who holds it: a factor shared with
 // other owners (threads may be solving with it) is replaced by a fresh one that reuses its
-// analysis; a factor held only here is refactorised in place.
-void factorizeUnshared(std::shared_ptr<CholeskyFactor>& factor, const SparseMatrix& A);
+// analysis; a factor held only here is refactorised in place. On up to `threads` threads.
+void factorizeUnshared(std::shared_ptr<CholeskyFactor>& factor, const SparseMatrix& A,
+                       int threads = 1);
 
 }  // namespace bcassim

@@ -12,7 +12,7 @@ void CholmodSolver::analyzePattern(const SparseMatrix& A) {
   factor_ = std::move(factor);
 }
 
-void CholmodSolver::setMatrix(const SparseMatrix& A) { factorizeUnshared(factor_, A); }
+void CholmodSolver::setMatrix(const SparseMatrix& A) { factorizeUnshared(factor_, A, threads_); }
 
 SolveStatus CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!factor_->isFactorized()) throw std::logic_error("CholmodSolver::solve before setMatrix");

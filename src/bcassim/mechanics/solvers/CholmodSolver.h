@@ -16,6 +16,7 @@ class CholmodSolver final : public LinearSolver {
   void setMatrix(const SparseMatrix& A) override;
   SolveStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   std::string name() const override { return "cholmod"; }
+  void setFactorThreads(int threads) override { threads_ = threads; }
   // The factor of the last matrix, e.g. to precondition other solvers (see FactorizedPcgSolver).
   // Later setMatrix calls factorise into a new object while it is held elsewhere.
   const std::shared_ptr<CholeskyFactor>& factor() const { return factor_; }
@@ -23,6 +24,7 @@ class CholmodSolver final : public LinearSolver {
  private:
   std::shared_ptr<CholeskyFactor> factor_;
   CholeskyFactor::Workspace work_;
+  int threads_ = 1;
 };
 
 }  // namespace bcassim

@@ -31,6 +31,9 @@ class LinearSolver {
   // that stops short of its tolerance throws LinearSolveError (it never returns a non-solution).
   virtual SolveStatus solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
   virtual std::string name() const = 0;
+  // Threads the next factorisations may use (a direct solver's; others ignore it), for a solve
+  // that has the cores to itself. The result does not depend on it.
+  virtual void setFactorThreads(int /*threads*/) {}
 };
 
 }  // namespace bcassim

@@ -194,27 +194,22 @@ std::array<int, SupernodalCholesky::kTopChunks + 1> SupernodalCholesky::chunkCol
 }
 
 std::int64_t SupernodalCholesky::factorize(const SparseMatrix& A, double* Lx,
-                                           tbb::task_arena& arena, Scratch& scratch) const {
+                                           tbb::task_arena& arena) const {
   if (!matches(A)) throw std::invalid_argument("SupernodalCholesky: A has another pattern");
   const auto groups = static_cast<int>(groups_.size());
   std::vector<std::int64_t> failed(static_cast<size_t>(groups), -1);
-  // Scratch kept between calls (fresh pages for every factorisation cost page faults), one slot
-  // per thread of the arena: what a slot holds never reaches the result.
-  const auto slots = static_cast<size_t>(std::max(1, arena.max_concurrency()));
-  scratch.maps.resize(slots);
-  scratch.updates.resize(slots);
-  for (size_t i = 0; i < slots; ++i) {
-    scratch.maps[i].resize(static_cast<size_t>(n_));
-    scratch.updates[i].resize(static_cast<size_t>(largestUpdate_));
-  }
-  const auto slot = [&] {
-    const int index = tbb::this_task_arena::current_thread_index();
-    return static_cast<size_t>(index >= 0 && static_cast<size_t>(index) < slots ? index : 0);
+  // Each thread's working memory kept for its next factorisation (fresh pages for every one
+  // cost page faults, and a build thread factorises again and again); it never reaches the result.
+  const auto scratch = [&]() -> Scratch& {
+    thread_local Scratch mine;
+    mine.map.resize(static_cast<size_t>(n_));
+    mine.update.resize(static_cast<size_t>(largestUpdate_));
+    return mine;
   };
   forEachOnArena(arena, groups, [&](int g) {
-    const size_t k = slot();
-    std::vector<int>& map = scratch.maps[k];
-    std::vector<double>& update = scratch.updates[k];
+    Scratch& work = scratch();
+    std::vector<int>& map = work.map;
+    std::vector<double>& update = work.update;
     for (int s : groups_[static_cast<size_t>(g)]) {
       assemble(s, A, Lx, map);
       subtractUpdates(s, 0, super_[s + 1] - super_[s], Lx, map, update);
@@ -228,17 +223,18 @@ std::int64_t SupernodalCholesky::factorize(const SparseMatrix& A, double* Lx,
   if (first >= 0) return first;
   // Above the groups the supernodes are few and wide and take most updates: each one's columns in
   // kTopChunks fixed pieces (whatever the thread count, so the same bits), concurrently.
-  std::vector<int>& map = scratch.maps[0];
+  Scratch& work = scratch();
+  const std::vector<int>& map = work.map;
   for (int s : top_) {
-    assemble(s, A, Lx, map);
+    assemble(s, A, Lx, work.map);
     const int nscol = super_[s + 1] - super_[s];
     if (nscol < kChunkedColumns) {
-      subtractUpdates(s, 0, nscol, Lx, map, scratch.updates[0]);
+      subtractUpdates(s, 0, nscol, Lx, map, work.update);
     } else {
       const std::array<int, kTopChunks + 1> cut = chunkColumns(s);
       forEachOnArena(arena, kTopChunks, [&](int c) {
         subtractUpdates(s, cut[static_cast<size_t>(c)], cut[static_cast<size_t>(c) + 1], Lx, map,
-                        scratch.updates[slot()]);
+                        scratch().update);
       });
     }
     if (const std::int64_t f = finish(s, Lx); f >= 0) return f;

@@ -30,15 +30,13 @@ class SupernodalCholesky {
   // top on the calling thread. Every supernode sums its updates in one fixed order, so any number
   // of threads gives the same bits. Returns -1, or the first column (in L's ordering) whose pivot
   // is not positive; Lx is then not a factor.
-  // Working memory of factorize(), kept by its caller between calls (one per concurrent call).
-  struct Scratch {
-    std::vector<std::vector<int>> maps;
-    std::vector<std::vector<double>> updates;
-  };
-  std::int64_t factorize(const SparseMatrix& A, double* Lx, tbb::task_arena& arena,
-                         Scratch& scratch) const;
+  std::int64_t factorize(const SparseMatrix& A, double* Lx, tbb::task_arena& arena) const;
 
  private:
+  struct Scratch {
+    std::vector<int> map;        // a row's place in the supernode at hand
+    std::vector<double> update;  // one descendant's update
+  };
   struct Update {
     int from;    // the descendant supernode
     int offset;  // the position, in its rows, of its first row among this supernode's columns
