@@ -387,8 +387,9 @@ struct CholeskyFactor::Symbolic {
   mutable std::once_flag planMade;
   mutable std::unique_ptr<SupernodalCholesky> plan;
   // Value arrays (L's xsize doubles) of released factors of this analysis, for the next ones: a
-  // build thread's 10-25 MB blocks would otherwise be unmapped when freed (glibc serves them from
-  // mmap outside the main arena) and the next build fault in fresh pages (docs/benchmarks.md §6).
+  // build thread's 10-25 MB blocks, freed and allocated again, came back as fresh pages from
+  // glibc's thread arenas (45 k more page faults in a mestdagh run, builds twice as long;
+  // docs/benchmarks.md §6).
   static constexpr size_t kSpareValues = 4;
   mutable std::mutex spareMutex;
   mutable std::vector<std::unique_ptr<double[]>> spareValues;
