@@ -27,8 +27,9 @@ SupernodalCholesky::SupernodalCholesky(const cholmod_factor& L, const SparseMatr
                                        const std::vector<std::vector<int>>& groups,
                                        const std::vector<int>& top)
     : groups_(groups), top_(top) {
-  if (!L.is_super || L.itype != CHOLMOD_INT)
-    throw std::invalid_argument("SupernodalCholesky: needs a supernodal factor with int indices");
+  if (!L.is_super || L.itype != CHOLMOD_INT || L.Perm == nullptr)
+    throw std::invalid_argument(
+        "SupernodalCholesky: needs a supernodal factor with int indices and its ordering");
   if (!A.isCompressed() || A.rows() != static_cast<Eigen::Index>(L.n) || A.cols() != A.rows())
     throw std::invalid_argument("SupernodalCholesky: A is not L's size or not compressed");
   n_ = static_cast<int>(L.n);
