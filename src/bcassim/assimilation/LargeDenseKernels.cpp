@@ -3,15 +3,7 @@
 #include <Eigen/Cholesky>
 #include <stdexcept>
 
-// Fortran BLAS/LAPACK (libblas.so.3 / liblapack.so.3: OpenBLAS through Debian's alternatives).
-extern "C" {
-void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
-            const double* a, const int* lda, const double* beta, double* c, const int* ldc);
-void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
-            const double* alpha, const double* a, const int* lda, const double* b, const int* ldb,
-            const double* beta, double* c, const int* ldc);
-void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
-}
+#include "bcassim/Blas.h"
 
 namespace bcassim {
 

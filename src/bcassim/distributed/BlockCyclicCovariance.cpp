@@ -9,11 +9,12 @@
 #include <limits>
 #include <stdexcept>
 
+#include "bcassim/Blas.h"
 #include "bcassim/Error.h"
 #include "bcassim/Stopwatch.h"
 #include "bcassim/distributed/MpiSession.h"
 
-// BLACS (C interface), ScaLAPACK and BLAS (Fortran) of Debian's libscalapack-openmpi / OpenBLAS.
+// BLACS (C interface) and ScaLAPACK of Debian's libscalapack-openmpi / OpenBLAS.
 extern "C" {
 void Cblacs_get(int context, int what, int* value);
 void Cblacs_gridinit(int* context, const char* order, int rows, int cols);
@@ -24,9 +25,6 @@ void descinit_(int* desc, const int* m, const int* n, const int* mb, const int* 
                const int* irsrc, const int* icsrc, const int* context, const int* lld, int* info);
 void pdpotrf_(const char* uplo, const int* n, double* a, const int* ia, const int* ja,
               const int* desca, int* info);
-void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
-            const double* alpha, const double* a, const int* lda, const double* b, const int* ldb,
-            const double* beta, double* c, const int* ldc);
 }
 
 namespace bcassim {
