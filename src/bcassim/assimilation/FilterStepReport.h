@@ -29,6 +29,8 @@ struct FilterStepReport {
   // Analysis passes after the first that linearised the observation operator again
   // (FilterOptions::relinearizations).
   int relinearizations = 0;
+  // Times the sigma points were forecast again about the analysed mean (RoukfOptions::reforecasts).
+  int reforecasts = 0;
   // Covariance factorisations repaired with jitter this step, and the largest jitter.
   int covarianceRepairs = 0;
   double largestJitter = 0.0;

@@ -179,4 +179,21 @@ void ForecastEnsemble::endStep(const Eigen::VectorXd& mean) {
   }
 }
 
+bool ForecastEnsemble::recentre(const Eigen::VectorXd& mean) {
+  if (distribution_ || models_.empty()) return false;
+  const Eigen::VectorXd state = mean.head(layout_.physicalSize());
+  Eigen::VectorXd params;
+  layout_.physicalParameters(mean, params);
+  try {
+    // Every model, whatever the first answers: each may have moved its reference.
+    const bool worthwhile = models_.front()->recentre(state, params);
+    for (size_t i = 1; i < models_.size(); ++i)
+      if (models_[i]->recentre(state, params) != worthwhile)
+        throw std::logic_error("ForecastEnsemble::recentre: the models answered differently");
+    return worthwhile;
+  } catch (const NumericalError& e) {
+    throw NumericalError(fmt::format("the analysed mean: {}", e.what()));
+  }
+}
+
 }  // namespace bcassim

@@ -83,6 +83,11 @@ class ForecastEnsemble {
   // the distribution's first, so that the other processes move on while these do.
   // A model's NumericalError comes out as a NumericalError "the analysed mean: ...".
   void endStep(const Eigen::VectorXd& mean);
+  // Asks every model, in worker order, to re-centre the step on the analysed mean
+  // (ForecastModel::recentre): whether forecasts about it can change the analysis. False, asking
+  // none, where forecasts are shared with other processes (not supported there); a
+  // NumericalError comes out as endStep()'s does.
+  bool recentre(const Eigen::VectorXd& mean);
 
  private:
   void forecastColumns(int s, const Eigen::MatrixXd& points, Eigen::MatrixXd& forecasts,

@@ -54,6 +54,19 @@ class ForecastModel {
 
   // The step is over: `state` and `params` (physical values) are the analysed mean.
   virtual void endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) = 0;
+
+  // Within a step, after its forecasts (an iterated analysis, RoukfOptions::reforecasts): the
+  // step's next forecasts are to start from the model at these analysed values, at the step's
+  // own time (a static model: its equilibrium with these parameters becomes the reference, and
+  // the forecasts linearise about it), and endStep() still ends this same step. Called like
+  // endStep(): on every instance, serially, in worker order; every instance answers alike.
+  // Returns whether forecasts about these values can change the analysis: false where the model
+  // cannot re-centre (the default, changing nothing: a dynamic step has no such reference), or
+  // where its forecasts were already exact about them (a linear response); the reference may
+  // then have moved all the same.
+  virtual bool recentre(const Eigen::VectorXd& /*state*/, const Eigen::VectorXd& /*params*/) {
+    return false;
+  }
 };
 
 }  // namespace bcassim

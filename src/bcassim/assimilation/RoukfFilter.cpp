@@ -44,6 +44,20 @@ RoukfFilter::RoukfFilter(StochasticState layout, std::vector<ForecastModel*> mod
   forecastRetries_ = options.forecastRetries;
   relinearizations_ = options.relinearizations;
   relinearizationTolerance_ = options.relinearizationTolerance;
+  if (options.reforecasts < 0) throw InputError("reforecasts must be >= 0");
+  if (!(options.reforecastBeyond > 0) || !std::isfinite(options.reforecastBeyond))
+    throw InputError(
+        "reforecast_beyond must be a finite number > 0 (forecast standard deviations)");
+  if (options.reforecasts > 0 && s.physicalSize() != 0)
+    throw InputError(
+        "reforecasts: only for a state of parameters alone (static frames); this one carries "
+        "the mechanical state too");
+  if (options.reforecasts > 0 && options.distribution)
+    throw InputError(
+        "reforecasts: not with forecasts shared with other processes (--mpi): the models there "
+        "cannot re-centre within a step");
+  reforecasts_ = options.reforecasts;
+  reforecastBeyond_ = options.reforecastBeyond;
   const Eigen::VectorXd sd = s.initialStddev();
   std::vector<Eigen::Index> reduced;
   for (Eigen::Index i = 0; i < s.size(); ++i)
@@ -105,6 +119,66 @@ double RoukfFilter::predictedTrace(const Eigen::MatrixXd& HL, RepairLog& repairs
   return C.triangularView<Eigen::Lower>().solve(HL.transpose()).squaredNorm();
 }
 
+// The sigma points an analysis linearises the observations with, and where they sit against the
+// forecast (mean x_f, basis L): their observables and predictions, their mean x_f + L centre,
+// and H L = (H S) toForecast where H S is the regression of their predictions on their anomalies
+// (the forecast's own points: L itself, toForecast the identity, centre 0).
+struct RoukfFilter::Linearisation {
+  const Eigen::MatrixXd* observables = nullptr;
+  Eigen::MatrixXd predicted;
+  Eigen::MatrixXd toForecast;
+  Eigen::VectorXd centre;
+};
+
+// Correction (Alg. 2 lines 21-27) from the forecast (x_f, L, U_f) in whitened form: with
+// W = R^-1/2 H L and d = R^-1/2 (y - z(x_f)), U = U_f + W^T W and x = x_f + L U^-1 W^T d, where
+// z(x_f) = z_mean - H L centre is the prediction linearised about the points' mean. The update
+// is L g, so the analysed observables are the points' moved by the coefficients
+// D_w I^T toForecast (g - centre): where a relinearisation linearises the operator again before
+// correcting from the same forecast. Returns g (empty when nothing was in the operator's reach;
+// then x_ and U_ are left as they were).
+Eigen::VectorXd RoukfFilter::correct(const Observation& y, Observation used,
+                                     const Linearisation& at, const Eigen::VectorXd& forecastMean,
+                                     const Eigen::MatrixXd& forecastU, FilterStepReport& report,
+                                     RepairLog& repairs) {
+  const Eigen::VectorXd& w = sigma_.weights;
+  const Eigen::MatrixXd DIt = w.asDiagonal() * sigma_.unit.transpose();  // s x r
+  Eigen::MatrixXd predicted = at.predicted;
+  Eigen::VectorXd gain, previousGain;
+  for (int pass = 0;; ++pass) {
+    const ObservedSubset obs(used, predicted.rows());
+    // Nothing within the operator's reach (after a relinearisation: the last pass stands).
+    if (obs.empty()) break;
+    x_ = forecastMean;
+    U_ = forecastU;
+    const Eigen::MatrixXd Zs = obs.selectRows(predicted);
+    const Eigen::VectorXd zMean = Zs * w;
+    const Eigen::MatrixXd HL = (Zs.colwise() - zMean) * DIt * at.toForecast;  // H L
+    const Eigen::MatrixXd W = obs.whiten(HL);
+    const Eigen::VectorXd innovation = obs.values() - zMean + HL * at.centre;
+    report.predictedObservationTrace = predictedTrace(HL, repairs);
+    U_.noalias() += W.transpose() * W;
+    const Eigen::MatrixXd C = choleskyWithRepair(U_, repairs);
+    const auto Cl = C.triangularView<Eigen::Lower>();
+    gain = Cl.transpose().solve(Cl.solve(W.transpose() * obs.whiten(innovation)));
+    x_ += L_ * gain;
+    report.innovationSquaredNorm = innovation.squaredNorm();
+    report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
+    report.observed = obs.size();
+    report.relinearizations = pass;
+    if (pass == relinearizations_) break;
+    // The analysed covariance is L U^-1 L^T: a move L d is d^T U d in its Mahalanobis metric.
+    if (pass > 0) {
+      const Eigen::VectorXd d = gain - previousGain;
+      if (d.dot(U_ * d) <= relinearizationTolerance_ * relinearizationTolerance_) break;
+    }
+    previousGain = gain;
+    used = ensemble_.predict(y, w, *at.observables, predicted,
+                             DIt * (at.toForecast * (gain - at.centre)));
+  }
+  return gain;
+}
+
 FilterStepReport RoukfFilter::step(const Observation& y) {
   const auto start = Clock::now();
   FilterStepReport report;
@@ -132,46 +206,45 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
   U_.setIdentity(r, r);
   addParameterNoise(repairs);
   Observation used = ensemble_.predict(y, w, O, Z);
-
-  // Correction (Alg. 2 lines 21-27) in whitened form: with W = R^-1/2 H_L and d = R^-1/2 (y - z),
-  // U = I + W^T W and x += L U^-1 W^T d. The update is L g = (X_f - x) D_w I^T g, so the analysed
-  // observables are the forecasts' moved by the same coefficients D_w I^T g: where a
-  // relinearisation linearises the operator again before correcting from the same forecast.
   const Eigen::VectorXd forecastMean = x_;
   const Eigen::MatrixXd forecastU = U_;
-  Eigen::VectorXd previousGain;
-  for (int pass = 0;; ++pass) {
-    const ObservedSubset obs(used, Z.rows());
-    // Nothing within the operator's reach (after a relinearisation: the last pass stands).
-    if (obs.empty()) break;
-    x_ = forecastMean;
-    U_ = forecastU;
-    const Eigen::MatrixXd Zs = obs.selectRows(Z);
-    const Eigen::VectorXd zMean = Zs * w;
-    const Eigen::MatrixXd HL = (Zs.colwise() - zMean) * DIt;  // H L
-    const Eigen::MatrixXd W = obs.whiten(HL);
-    const Eigen::VectorXd innovation = obs.values() - zMean;
-    report.predictedObservationTrace = predictedTrace(HL, repairs);
-    U_.noalias() += W.transpose() * W;
+  Linearisation at{&O, std::move(Z), Eigen::MatrixXd::Identity(r, r), Eigen::VectorXd::Zero(r)};
+  Eigen::VectorXd gain = correct(y, std::move(used), at, forecastMean, forecastU, report, repairs);
+
+  // Iterated: where the analysis left the forecasts' reach, forecast again about it. The first
+  // move is judged under the forecast covariance, the next ones under the analysed one.
+  Eigen::MatrixXd Oi;
+  double reforecastSeconds = 0;
+  for (int k = 0; k < reforecasts_ && gain.size() > 0; ++k) {
+    const Eigen::VectorXd move = gain - at.centre;
+    if (k == 0 ? move.dot(forecastU * move) <= reforecastBeyond_ * reforecastBeyond_
+               : move.dot(U_ * move) <= relinearizationTolerance_ * relinearizationTolerance_)
+      break;
+    const auto reforecastStart = Clock::now();
+    if (!ensemble_.recentre(x_)) break;
+    // The points about the analysed mean with its covariance L U^-1 L^T = S S^T, S = L C^-T:
+    // their anomalies are S I, so H L = (H S) C^T.
     const Eigen::MatrixXd C = choleskyWithRepair(U_, repairs);
-    const auto Cl = C.triangularView<Eigen::Lower>();
-    const Eigen::VectorXd reducedGain =
-        Cl.transpose().solve(Cl.solve(W.transpose() * obs.whiten(innovation)));
-    x_ += L_ * reducedGain;
-    report.innovationSquaredNorm = innovation.squaredNorm();
-    report.innovationNorm = std::sqrt(report.innovationSquaredNorm);
-    report.observed = obs.size();
-    report.relinearizations = pass;
-    if (pass == relinearizations_) break;
-    // The analysed covariance is L U^-1 L^T: a move L d is d^T U d in its Mahalanobis metric.
-    if (pass > 0) {
-      const Eigen::VectorXd d = reducedGain - previousGain;
-      if (d.dot(U_ * d) <= relinearizationTolerance_ * relinearizationTolerance_) break;
-    }
-    previousGain = reducedGain;
-    used = ensemble_.predict(y, w, O, Z, DIt * reducedGain);
+    const Eigen::MatrixXd S = C.triangularView<Eigen::Lower>().solve(L_.transpose()).transpose();
+    Eigen::MatrixXd Xi;
+    const ForecastRetries again =
+        ensemble_.forecastRetrying(sigma_.points(x_, S), w, forecastRetries_, Xi, Oi);
+    report.forecastHalvings += again.halvings;
+    if (report.forecastFailure.empty()) report.forecastFailure = again.failure;
+    reforecastSeconds += secondsSince(reforecastStart);
+    Linearisation next{&Oi, Eigen::MatrixXd(), C.transpose(), gain};
+    Observation nextUsed = ensemble_.predict(y, w, Oi, next.predicted);
+    ++report.reforecasts;
+    Eigen::VectorXd nextGain =
+        correct(y, std::move(nextUsed), next, forecastMean, forecastU, report, repairs);
+    if (nextGain.size() == 0) break;  // nothing left in reach there: the last analysis stands
+    O.swap(Oi);
+    next.observables = &O;
+    at = std::move(next);
+    gain = std::move(nextGain);
   }
-  report.seconds.correction = secondsSince(correctionStart);
+  report.seconds.forecast += reforecastSeconds;
+  report.seconds.correction = secondsSince(correctionStart) - reforecastSeconds;
 
   ensemble_.endStep(x_);
   RepairLog again;  // U was factorised (and any repair counted) above

@@ -24,6 +24,19 @@ struct RoukfOptions : FilterOptions {
   // physical part with them through the sensitivities L L_p^+ (Moireau & Chapelle 2011). With a
   // parameter-only state this is the Kalman filter's P + Q.
   Eigen::VectorXd processVariance;
+  // Iterated analysis where the forecasts' linearisation is far from the analysed mean (a
+  // parameter-only state: static frames). When the analysis moves the mean by more than
+  // reforecastBeyond forecast standard deviations (Mahalanobis distance under the forecast
+  // covariance), the models re-centre on the analysed mean (ForecastModel::recentre), the sigma
+  // points are drawn about it with the analysed covariance and forecast again, and the frame is
+  // analysed again from the same forecast mean and covariance with the observations linearised
+  // there (the iterated posterior linearisation filter, Garcia-Fernandez et al. 2015; with a
+  // small analysed spread, Gauss-Newton on the frame's posterior). Up to `reforecasts` times,
+  // until one moves the mean by less than relinearizationTolerance of its analysed spread, or the
+  // models say forecasts about the new mean cannot change the analysis (a linear response).
+  // Not with a distribution (forecasts on other processes): InputError.
+  int reforecasts = 0;
+  double reforecastBeyond = 1.0;
 };
 
 // Reduced state: the r directions that carry uncertainty are every parameter plus every entry of
@@ -56,6 +69,10 @@ class RoukfFilter final : public Filter {
  private:
   void addParameterNoise(RepairLog& repairs);
   double predictedTrace(const Eigen::MatrixXd& HL, RepairLog& repairs) const;
+  struct Linearisation;
+  Eigen::VectorXd correct(const Observation& y, Observation used, const Linearisation& at,
+                          const Eigen::VectorXd& forecastMean, const Eigen::MatrixXd& forecastU,
+                          FilterStepReport& report, RepairLog& repairs);
 
   ForecastEnsemble ensemble_;
   SigmaPointSet sigma_;
@@ -63,6 +80,8 @@ class RoukfFilter final : public Filter {
   int relinearizations_ = 0;
   int forecastRetries_ = 3;
   double relinearizationTolerance_ = 0.1;
+  int reforecasts_ = 0;
+  double reforecastBeyond_ = 1.0;
   Eigen::VectorXd x_;
   Eigen::MatrixXd L_;
   Eigen::MatrixXd U_;
