@@ -230,7 +230,7 @@ void MechanicalForecastModel::staticForecast(const Eigen::VectorXd& params,
   work_ = reference_;
   setParameters(params);
   ++stats_.forecasts;
-  const double t = reference_.t + integrator_.options().dt;
+  const double t = frameTime();
   bool solved = false;
   if (options_.meanTangent && shared_->tangent) {
     const auto start = Clock::now();
@@ -253,13 +253,31 @@ void MechanicalForecastModel::staticForecast(const Eigen::VectorXd& params,
 // The analysed mean's equilibrium becomes the reference: solved by worker 0, copied by the
 // others (endStep runs in worker order), so that it costs one solve whatever the thread count.
 void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
+  settleStaticMean(params, false);
+  recentred_ = false;
+}
+
+bool MechanicalForecastModel::recentre(const Eigen::VectorXd& /*state*/,
+                                       const Eigen::VectorXd& params) {
+  if (!statics_) return false;
+  setParameters(params);
+  settleStaticMean(params, true);
+  recentred_ = true;
+  return shared_->recentreWorthwhile;
+}
+
+// The mean's equilibrium at this frame's time with `params` (set already) as the reference.
+// Re-centring within a frame needs a tangent at it (the forecasts about it linearise with it): one
+// is built there unless the tangent in use solved it in one or two chord steps; the schedule of
+// refreshes counts frames, not re-centrings.
+void MechanicalForecastModel::settleStaticMean(const Eigen::VectorXd& params, bool recentring) {
   meanParams_ = params;
   if (worker_ == 0) {
     shared_->factor = shared_->next;
-    const double t = reference_.t + integrator_.options().dt;
+    const double t = frameTime();
     // A build due at the end of this frame serves its mean already: the mean's chord, which
     // stalls as its tangent ages, is the frame's cost (the sigma points took the older one).
-    if (options_.meanTangent) adoptBuildIfDue(shared_->stepsSinceTangent + 1);
+    if (options_.meanTangent && !recentring) adoptBuildIfDue(shared_->stepsSinceTangent + 1);
     Eigen::VectorXd chordEnd;
     const bool chorded = chordMean(t, chordEnd);
     if (!chorded) {
@@ -277,12 +295,17 @@ void MechanicalForecastModel::staticEndStep(const Eigen::VectorXd& params) {
     shared_->staticMean = reference_;
     shared_->staticMeanLoad = referenceLoad_;
     if (shared_->next) shared_->factor = shared_->next;
-    if (chorded || !options_.meanTangent) {
+    // Without the mean's tangent every forecast solves its own equilibrium: forecasts about this
+    // mean sample the response there, where the ones about the forecast mean did not.
+    shared_->recentreWorthwhile = !options_.meanTangent || !chorded || meanChordSteps_ > 2;
+    if (!options_.meanTangent) return;
+    if (chorded && !recentring) {
       refreshMeanTangent();
-    } else {
-      // The tangent did not serve: a new one at this equilibrium now, whatever the schedule. (A
-      // background build would serve N frames later, and the frames between fell back to Newton
-      // too: 250-400 ms each at the mestdagh liver's start.)
+    } else if (shared_->recentreWorthwhile) {
+      // The tangent did not serve (or, re-centring, was not this equilibrium's): a new one at
+      // this equilibrium now, whatever the schedule. (A background build would serve N frames
+      // later, and the frames between fell back to Newton too: 250-400 ms each at the mestdagh
+      // liver's start.)
       discardPendingTangent();
       buildMeanTangent(inFrameThreads());
     }

@@ -46,6 +46,8 @@ struct SharedFactorization {
   // copy at theirs (endStep runs in worker order), and the external forces it balances.
   MechanicalState staticMean;
   Eigen::VectorXd staticMeanLoad;
+  // Worker 0's answer to the last recentre(), which the others give too.
+  bool recentreWorthwhile = false;
 };
 
 // What one worker's forecasts cost since the last takeStats(): CPU seconds in each part.
@@ -119,6 +121,13 @@ class MechanicalForecastModel final : public ForecastModel {
   void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
                 Eigen::VectorXd& newState, Eigen::VectorXd& predicted) override;
   void endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) override;
+  // Static frames only: the equilibrium at these parameters, at this frame's time, becomes the
+  // reference the frame's next forecasts linearise about, with a tangent built there (with
+  // `tangent: mean`). False for dynamic steps (nothing changed), and where the tangent the
+  // forecasts used solved this equilibrium in one or two chord steps (a linear law's always
+  // does): forecasts about it would be the same affine map, so a re-forecast could not change the
+  // analysis (the reference has moved; endStep() ends the frame from it).
+  bool recentre(const Eigen::VectorXd& state, const Eigen::VectorXd& params) override;
 
   // The stochastic physical part of a mechanical state, per the layout (for the initial mean).
   Eigen::VectorXd packState(const MechanicalState& s) const;
@@ -144,6 +153,12 @@ class MechanicalForecastModel final : public ForecastModel {
   void staticForecast(const Eigen::VectorXd& params, Eigen::VectorXd& newState,
                       Eigen::VectorXd& observable);
   void staticEndStep(const Eigen::VectorXd& params);
+  void settleStaticMean(const Eigen::VectorXd& params, bool recentring);
+  // The time the frame's forecasts solve for: the next one, or the reference's own once the
+  // frame was re-centred.
+  double frameTime() const {
+    return recentred_ ? reference_.t : reference_.t + integrator_.options().dt;
+  }
   bool chordMean(double t, Eigen::VectorXd& end);
   void solveStaticFrom(Eigen::VectorXd& chordEnd, double t);
   void rebuildMeanTangentAt(const MechanicalState& at);
@@ -180,6 +195,7 @@ class MechanicalForecastModel final : public ForecastModel {
   MechanicalState tangentState_;
   std::future<std::shared_ptr<const FrozenTangent>> pendingTangent_;
   int meanChordSteps_ = 0;  // the chord steps of the last static mean's solve (worker 0)
+  bool recentred_ = false;  // this frame's reference is already at its own time (recentre)
   std::unique_ptr<BackgroundThread> builder_;  // the thread every background build runs on
 };
 
