@@ -151,6 +151,21 @@ TEST(AssimilationCli, ForecastRetriesAreACountFrom0To20) {
               "1/2^20 of their spread), got 21");
 }
 
+TEST(AssimilationCli, ReforecastsAreForStaticFramesWithRoukf) {
+  const auto dir = freshDir();
+  expectError(assimilate(dir, sectionWith("  reforecasts: -1\n")),
+              "scene.yaml:7: assimilation.reforecasts: must be >= 0, got -1");
+  expectError(assimilate(dir, sectionWith("  reforecasts: 21\n")),
+              "scene.yaml:7: assimilation.reforecasts: must be <= 20, got 21");
+  expectError(assimilate(dir, sectionWith("  filter: ukf\n  reforecasts: 2\n")),
+              "scene.yaml:8: assimilation.reforecasts: needs filter: roukf, got ukf");
+  expectError(assimilate(dir, sectionWith("  reforecasts: 2\n")),
+              "scene.yaml:7: assimilation.reforecasts: needs integrator.type static (a dynamic "
+              "step has no equilibrium to re-centre on)");
+  expectError(assimilate(dir, sectionWith("  reforecast_beyond: 2\n")),
+              "scene.yaml:7: assimilation.reforecast_beyond: only for reforecasts > 0");
+}
+
 TEST(AssimilationCli, UnknownFilter) {
   const auto dir = freshDir();
   expectError(assimilate(dir, sectionWith("  filter: kalman\n")),

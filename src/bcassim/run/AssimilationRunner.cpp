@@ -222,6 +222,8 @@ std::unique_ptr<Filter> makeFilter(const AssimilationSettings& s, const Stochast
       o.distribution = distribution;
       o.sigmaPoints = s.sigmaPoints;
       o.processVariance = process;
+      o.reforecasts = s.reforecasts;
+      o.reforecastBeyond = s.reforecastBeyond;
       return std::make_unique<RoukfFilter>(layout, models, executor, o);
     }
     case FilterKind::Etkf: {
@@ -391,7 +393,7 @@ AssimilationFiles openFiles(const Scene& scene, const AssimilationSetup& setup, 
       openStepCsv(files.timingPath.string(),
                   "step,time_s,forecast_ms,correction_ms,total_ms,validation_ms,assembly_cpu_ms,"
                   "solve_cpu_ms,tangent_cpu_ms,linear_iterations,factorizations,tangent_failures,"
-                  "tangent_wait_ms,step_retries",
+                  "tangent_wait_ms,step_retries,reforecasts",
                   cutAt);
   if (s.observations.adaptiveNoise) {
     files.noisePath = dir / "noise.csv";
@@ -665,12 +667,13 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
   const double validationSeconds = secondsSince(v0);
 
   files.timing << fmt::format(
-      "{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{},{},{:.6g},{}\n", step,
-      time, 1e3 * report.seconds.forecast, 1e3 * report.seconds.correction,
+      "{},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{},{},{:.6g},{},{}\n",
+      step, time, 1e3 * report.seconds.forecast, 1e3 * report.seconds.correction,
       1e3 * report.seconds.total, 1e3 * validationSeconds, 1e3 * cost.assemblySeconds,
       1e3 * cost.solveSeconds, 1e3 * cost.tangentSeconds,
       cost.forecasts > 0 ? static_cast<double>(cost.linearIterations) / cost.forecasts : 0.0,
-      cost.factorizations, cost.tangentFailures, 1e3 * cost.tangentWaitSeconds, cost.stepRetries);
+      cost.factorizations, cost.tangentFailures, 1e3 * cost.tangentWaitSeconds, cost.stepRetries,
+      report.reforecasts);
   loop.result.tangentFailures += cost.tangentFailures;
   flushOrThrow(files.timing, files.timingPath);
   loop.stepMs.push_back(1e3 * report.seconds.total);

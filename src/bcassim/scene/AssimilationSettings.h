@@ -97,6 +97,11 @@ struct AssimilationSettings {
   // A step whose forecasts fail (a sigma point inverts an element even at time.min_dt) is redone
   // with the points halfway to the mean, up to this many times (FilterOptions::forecastRetries).
   int forecastRetries = 3;
+  // Static frames with roukf: a frame whose analysis moves the mean by more than
+  // reforecastBeyond forecast standard deviations is forecast again about it and analysed again,
+  // up to this many times (RoukfOptions::reforecasts); 0: never.
+  int reforecasts = 0;
+  double reforecastBeyond = 1.0;  // forecast standard deviations (Mahalanobis), -
   bool carryPositions = true;
   bool carryVelocities = true;
   bool reuseFactorization = true;  // thesis Alg. 4/5: factorized-pcg sharing worker 0's factor

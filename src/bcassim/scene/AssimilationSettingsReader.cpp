@@ -55,6 +55,8 @@ const std::vector<std::string> kAssimilationKeys = {"filter",
                                                     "seed",
                                                     "threads",
                                                     "forecast_retries",
+                                                    "reforecasts",
+                                                    "reforecast_beyond",
                                                     "state",
                                                     "reuse_factorization",
                                                     "tangent",
@@ -392,6 +394,16 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   if (s.forecastRetries > 20)
     r.fail("forecast_retries", "must be <= 20 (the sigma points at 1/2^20 of their spread), got " +
                                    std::to_string(s.forecastRetries));
+  s.reforecasts = r.integer("reforecasts", 0, Range::NonNegative);
+  if (s.reforecasts > 20)
+    r.fail("reforecasts", "must be <= 20, got " + std::to_string(s.reforecasts));
+  if (s.reforecasts > 0 && s.filter != FilterKind::Roukf)
+    r.fail("reforecasts", "needs filter: roukf, got " + filter);
+  if (s.reforecasts > 0 && !c.statics)
+    r.fail("reforecasts",
+           "needs integrator.type static (a dynamic step has no equilibrium to re-centre on)");
+  r.rejectUnless(s.reforecasts > 0, "reforecast_beyond", "reforecasts > 0");
+  s.reforecastBeyond = r.number("reforecast_beyond", 1.0, "-", Range::Positive);
   MapReader state(src, r.node("state"), r.pathOf("state"), {"positions", "velocities"});
   // A static frame is a function of the parameters alone: nothing mechanical to carry.
   s.carryPositions = state.boolean("positions", !c.statics);
