@@ -247,7 +247,7 @@ TANGENT_SETTINGS = {
 
 
 def register(bcassim, data, out, seq, threads, tangent="own", footprint="none",
-             distribution="surface"):
+             distribution="surface", reforecasts=2):
     """Force and interior-node errors of the estimation on mesh-remeshed, per frame."""
     work = os.path.join(out, "register", seq.replace("/", "-"))
     inputs = os.path.join(work, "inputs")
@@ -270,7 +270,7 @@ def register(bcassim, data, out, seq, threads, tangent="own", footprint="none",
     with open(scene, "w") as f:
         f.write(fill("register.yaml", data=data, sequence=seq, inputs=inputs, threads=threads,
                      material=material_of(seq), tangent_settings=TANGENT_SETTINGS[tangent],
-                     distribution=distribution,
+                     distribution=distribution, reforecasts=reforecasts,
                      footprint=FOOTPRINT_PARAMETERS[footprint]))
     run_dir = os.path.join(work, "run")
     run([bcassim, "assimilate", scene, "--out", run_dir, "-q", "--no-plots"],
@@ -344,7 +344,13 @@ def main():
                         help="registration: how the estimated force is shared over the zone: "
                              "surface (a uniform traction on its faces, the same load on any "
                              "mesh) or nodes (split evenly over its vertices)")
+    parser.add_argument("--reforecasts", type=int, default=2,
+                        help="registration: times a frame whose analysis moved the force by more "
+                             "than one forecast standard deviation is forecast and analysed again "
+                             "about that estimate (0: never; default 2)")
     a = parser.parse_args()
+    if not 0 <= a.reforecasts <= 20:
+        parser.error(f"--reforecasts: expected 0 to 20, got {a.reforecasts}")
     bcassim = os.path.abspath(os.path.join(a.build, "bcassim"))
     data = os.path.abspath(a.data)
     out = os.path.abspath(a.out)
@@ -404,7 +410,7 @@ def main():
         for seq in a.only:
             try:
                 results.append(register(bcassim, data, out, seq, a.threads, a.tangent,
-                                        a.footprint, a.distribution))
+                                        a.footprint, a.distribution, a.reforecasts))
             except RunFailed as failure:
                 failed.append((seq, str(failure)))
                 print(f"register {seq}: failed, {failure}", flush=True)
