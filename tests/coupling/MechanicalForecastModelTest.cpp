@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "bcassim/coupling/MechanicalForecastModel.h"
+#include "bcassim/mechanics/StaticSolver.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 #include "bcassim/mesh/MeshGenerators.h"
 
@@ -250,6 +251,68 @@ TEST(MechanicalForecastModel, FailedForecastStepsAreHalvedAndCounted) {
     MechanicalForecastModel strict(model, noHalving, {}, {}, initial, o, 0, shared);
     EXPECT_THROW(strict.forecast(state, none, next, predicted), StepFailure);
   }
+}
+
+// An iterated static frame (RoukfOptions::reforecasts): recentre() makes the analysed mean's
+// equilibrium at the frame's own time the reference, forecasts then solve for that same time,
+// and endStep() still ends that frame; where the stiffness in use already solves the new mean at
+// once, a re-forecast is said not to be worthwhile.
+TEST(MechanicalForecastModel, RecentringAStaticFrameKeepsItsTimeAndSaysWhenItCannotHelp) {
+  MechanicalModel model = cylinderModel();  // its load a sine of time: each frame's differs
+  const std::vector<MappedPoint> observed = mapPoints(*model.mesh, model.mesh->V.topRows(5));
+  ForecastModelOptions options;
+  options.solver = "cholmod";
+  options.statics = StaticOptions{};
+  options.statics->relativeTolerance = 1e-10;
+  options.meanTangent = true;
+  options.layout.positions = options.layout.velocities = false;  // parameters only
+  const double dt = 0.2;
+  const YoungModulusTarget young{0, "stvk", 0.45};
+  MechanicalForecastModel adapter(model, {dt, 0, 1e-10}, observed, {young}, model.restState(),
+                                  options, 0, std::make_shared<SharedFactorization>());
+  // The equilibrium at E = 6000 Pa and time t, solved apart.
+  const auto equilibrium = [&](double t) {
+    MechanicalModel direct = model;
+    direct.elasticity.setMaterial(0, makeMaterial("stvk", 6000, 0.45));
+    StaticSolver solver(direct, makeLinearSolver("cholmod"), *options.statics);
+    Eigen::VectorXd x = direct.restPositions();
+    solver.solve(direct, t, x);
+    return x;
+  };
+  const Eigen::VectorXd atFrame = equilibrium(dt);
+  const double motion = (atFrame - model.restPositions()).norm();
+  ASSERT_GT(motion, 1e-4);
+
+  const Eigen::VectorXd E = Eigen::VectorXd::Constant(1, 6000.0);
+  // The rest shape's stiffness (E = 8000) does not solve it at once: worth re-forecasting.
+  EXPECT_TRUE(adapter.recentre(Eigen::VectorXd(), E));
+  EXPECT_NEAR(adapter.reference().t, dt, 1e-15);
+  EXPECT_LT((adapter.reference().x - atFrame).norm(), 1e-7 * motion);
+  // A forecast now solves for the same time: one chord step from that equilibrium stays there.
+  Eigen::VectorXd newState, predicted;
+  adapter.forecast(Eigen::VectorXd(), E, newState, predicted);
+  for (int i = 0; i < 5; ++i)
+    EXPECT_LT((predicted.segment<3>(3 * i) - interpolate(observed[i], *model.mesh, atFrame)).norm(),
+              1e-7 * motion);
+  // Again at the same mean: the stiffness built there solves it at once.
+  EXPECT_FALSE(adapter.recentre(Eigen::VectorXd(), E));
+  EXPECT_NEAR(adapter.reference().t, dt, 1e-15);
+  // The frame ends at its own time; the next one solves for the time after.
+  adapter.endStep(Eigen::VectorXd(), E);
+  EXPECT_NEAR(adapter.reference().t, dt, 1e-15);
+  EXPECT_LT((adapter.reference().x - atFrame).norm(), 1e-7 * motion);
+  adapter.forecast(Eigen::VectorXd(), E, newState, predicted);
+  adapter.endStep(Eigen::VectorXd(), E);
+  EXPECT_NEAR(adapter.reference().t, 2 * dt, 1e-15);
+  EXPECT_LT((adapter.reference().x - equilibrium(2 * dt)).norm(), 1e-7 * motion);
+
+  // A dynamic model cannot re-centre.
+  ForecastModelOptions dynamicOptions;
+  dynamicOptions.solver = "cholmod";
+  MechanicalForecastModel dynamic(model, {0.01, 0, 1e-10}, observed, {young}, model.restState(),
+                                  dynamicOptions, 0, nullptr);
+  EXPECT_FALSE(dynamic.recentre(dynamic.packState(model.restState()), E));
+  EXPECT_EQ(dynamic.reference().t, 0.0);
 }
 
 }  // namespace
