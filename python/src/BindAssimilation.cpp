@@ -170,6 +170,7 @@ void bindAssimilation(py::module_& m) {
       .def_readonly("predicted_observation_trace", &FilterStepReport::predictedObservationTrace)
       .def_readonly("observed", &FilterStepReport::observed)
       .def_readonly("relinearizations", &FilterStepReport::relinearizations)
+      .def_readonly("reforecasts", &FilterStepReport::reforecasts)
       .def_readonly("covariance_repairs", &FilterStepReport::covarianceRepairs)
       .def_readonly("seconds", &FilterStepReport::seconds);
 
@@ -177,8 +178,11 @@ void bindAssimilation(py::module_& m) {
       m, "ForecastModel",
       "Subclass it: state_size(), observable_size(), forecast(state, params) -> (new_state, "
       "observable) advancing one time step (params in physical units), and optionally "
-      "end_step(state, params) with the analysed mean. forecast must depend only on its "
-      "arguments and the model's reference (set by end_step).")
+      "end_step(state, params) with the analysed mean, and recentre(state, params) -> bool for "
+      "RoukfFilter's reforecasts (a static model: its reference moved to the equilibrium at "
+      "these values within the step; True where forecasts about it can change the analysis). "
+      "forecast must depend only on its arguments and the model's reference (set by end_step "
+      "and recentre).")
       .def(py::init<>());
 
   py::class_<ObservationOperator, PythonObservationOperator>(
@@ -219,19 +223,26 @@ void bindAssimilation(py::module_& m) {
                                         "Reduced-order UKF (thesis Alg. 2): rank = parameters")
       .def(py::init([](const StochasticState& layout, const py::object& models, int threads,
                        const std::string& sigmaPoints, std::optional<Eigen::VectorXd> q,
-                       bool firstAlone, const py::object& observation, int relinearizations) {
+                       bool firstAlone, const py::object& observation, int relinearizations,
+                       int reforecasts, double reforecastBeyond) {
              RoukfOptions o;
              o.sigmaPoints = parseSigmaPointKind(sigmaPoints);
+             o.reforecasts = reforecasts;
+             o.reforecastBeyond = reforecastBeyond;
              return makeFilter<RoukfHandle, RoukfFilter>(layout, models, threads, o, q, firstAlone,
                                                          observation, relinearizations);
            }),
            "layout"_a, "models"_a, "threads"_a = 1, "sigma_points"_a = "simplex",
            "process_variance"_a = py::none(), "first_alone"_a = false, "observation"_a = py::none(),
-           "relinearizations"_a = 0,
+           "relinearizations"_a = 0, "reforecasts"_a = 0, "reforecast_beyond"_a = 1.0,
            "models: a ForecastModel, or a list of one per thread; process_variance: unconstrained "
            "variance per state entry per step (random walk of the parameters); relinearizations: "
            "analysis passes after the first that linearise the observation operator again at the "
-           "analysed observables (an iterated filter for the operator, no forecast repeated)");
+           "analysed observables (an iterated filter for the operator, no forecast repeated); "
+           "reforecasts (parameters-only states): where the analysis moves the mean by more than "
+           "reforecast_beyond forecast standard deviations, the models are re-centred on it "
+           "(ForecastModel.recentre) and the step forecast and analysed again, up to this many "
+           "times");
 
   py::class_<UkfHandle, FilterHandle>(m, "UkfFilter", "Unscented Kalman filter (thesis Alg. 1)")
       .def(py::init([](const StochasticState& layout, const py::object& models, int threads,

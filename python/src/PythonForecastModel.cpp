@@ -39,6 +39,13 @@ void PythonForecastModel::endStep(const Eigen::VectorXd& state, const Eigen::Vec
   if (override) override(state, params);  // optional: a model without reference state needs none
 }
 
+bool PythonForecastModel::recentre(const Eigen::VectorXd& state, const Eigen::VectorXd& params) {
+  py::gil_scoped_acquire gil;
+  const py::function override =
+      py::get_override(static_cast<const ForecastModel*>(this), "recentre");
+  return override && py::cast<bool>(override(state, params));  // optional: a model cannot
+}
+
 void PythonObservationOperator::predict(const Eigen::VectorXd& observable,
                                         Eigen::VectorXd& predicted) const {
   py::gil_scoped_acquire gil;

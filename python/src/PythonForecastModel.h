@@ -24,6 +24,8 @@ class PythonForecastModel : public ForecastModel {
   void forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,
                 Eigen::VectorXd& newState, Eigen::VectorXd& observable) override;
   void endStep(const Eigen::VectorXd& state, const Eigen::VectorXd& params) override;
+  // Optional recentre(state, params) -> bool (RoukfFilter's reforecasts); absent: False.
+  bool recentre(const Eigen::VectorXd& state, const Eigen::VectorXd& params) override;
 };
 
 // Python side: linearize(mean_observable, frame) -> Observation and predict(observable) ->

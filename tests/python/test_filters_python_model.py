@@ -202,3 +202,67 @@ def test_prediction_only_steps_and_errors():
         f.step(Observation([1.0, 2.0, 3.0], sigma=0.1))
     with pytest.raises(bcassim.InputError):
         StochasticState([0.0], [0.1], [Parameter("k", 1.0, -1.0)])  # sigma <= 0
+
+
+class LinearisedAtItsReference(ForecastModel):
+    """A static model written in Python: y = (a^2, a b, b^2), each forecast linearised about the
+    model's reference, which recentre() moves (as a static frame's chord steps are linearised
+    about the analysed mean's equilibrium)."""
+
+    def __init__(self, reference, can_recentre=True):
+        super().__init__()
+        self.reference = np.array(reference, dtype=float)
+        self.can_recentre = can_recentre
+        self.recentres = 0
+
+    @staticmethod
+    def h(o):
+        return np.array([o[0] ** 2, o[0] * o[1], o[1] ** 2])
+
+    @staticmethod
+    def jacobian(o):
+        return np.array([[2 * o[0], 0.0], [o[1], o[0]], [0.0, 2 * o[1]]])
+
+    def state_size(self):
+        return 0
+
+    def observable_size(self):
+        return 3
+
+    def forecast(self, state, params):
+        r = self.reference
+        return np.zeros(0), self.h(r) + self.jacobian(r) @ (params - r)
+
+    def recentre(self, state, params):
+        if not self.can_recentre:
+            return False
+        self.reference = np.array(params, dtype=float)
+        self.recentres += 1
+        return True
+
+
+def test_roukf_reforecasts_reach_the_maximum_a_posteriori_of_a_python_model():
+    mu, sd, sigma = np.array([1.0, -0.5]), np.array([0.4, 0.3]), 0.05
+    y = LinearisedAtItsReference.h(np.array([1.5, -0.2]))
+    # The MAP by Gauss-Newton, apart from the filter.
+    Pinv = np.diag(1 / sd**2)
+    theta = mu.copy()
+    for _ in range(100):
+        J = LinearisedAtItsReference.jacobian(theta)
+        g = Pinv @ (theta - mu) - J.T @ (y - LinearisedAtItsReference.h(theta)) / sigma**2
+        theta -= np.linalg.solve(Pinv + J.T @ J / sigma**2, g)
+    layout = StochasticState([], [], [Parameter("a", mu[0], sd[0]), Parameter("b", mu[1], sd[1])])
+    results = {}
+    for name, model, reforecasts in [("once", LinearisedAtItsReference(mu), 0),
+                                     ("iterated", LinearisedAtItsReference(mu), 40),
+                                     ("refused", LinearisedAtItsReference(mu, False), 40)]:
+        f = RoukfFilter(layout, model, reforecasts=reforecasts)
+        report = f.step(Observation(y, sigma=sigma))
+        results[name] = (f.estimate()[0], report.reforecasts, model.recentres)
+    once, iterated, refused = results["once"], results["iterated"], results["refused"]
+    assert np.abs(iterated[0] - theta).max() < 1e-4
+    assert np.abs(once[0] - theta).max() > 1e-2
+    assert 1 <= iterated[1] <= 40 and iterated[2] == iterated[1]
+    assert refused[1] == 0 and np.array_equal(refused[0], once[0])
+    with pytest.raises(ValueError, match="reforecasts must be >= 0"):
+        RoukfFilter(layout, LinearisedAtItsReference(mu), reforecasts=-1)
