@@ -241,7 +241,7 @@ FOOTPRINT_PARAMETERS = {
 }
 
 TANGENT_SETTINGS = {
-    "mean": "tangent: mean\n  tangent_refresh_every: 3\n  tangent_background: true",
+    "mean": "tangent: mean\n  tangent_refresh_every: 2\n  tangent_background: true",
     "own": "tangent: own\n  reuse_factorization: false",
 }
 
