@@ -7,11 +7,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "bcassim/io/IndexListReader.h"
 #include "bcassim/io/NpyReader.h"
 #include "bcassim/mechanics/StaticSolver.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
+#include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/scene/SceneLoader.h"
 #include "support/TestFiles.h"
 
@@ -121,6 +126,89 @@ TEST(MestdaghLiver, StaticLinearSolvesReproduceTheFenicsPositionsThroughInverted
     expectFramesReproduced(data, dir, "linear", sequence,
                            "{model: linear, young_modulus: 20000, poisson_ratio: 0.45}", fixed,
                            kFrames, 5e-5, 1);
+}
+
+// Registration from the point clouds alone (examples/mestdagh-liver/register.yaml's setting), its
+// first frames: from the zero prior the first frame's data move the force by 2.7 N. One analysis
+// linearised about the rest shape lands two-thirds off (docs/results.md: 67 % on
+// neohookean/s3); forecast again about its estimate (reforecasts), the frame lands within a few
+// per cent (2.5 %), and the next frames stay there.
+TEST(MestdaghLiver, ReforecastsRegisterTheFirstNeoHookeanFramesFromTheCloudsAlone) {
+  const fs::path data = mestdaghDir();
+  if (data.empty()) GTEST_SKIP() << "mestdagh-liver data not found (set BCASSIM_DATA)";
+  const fs::path dir = test::freshDir();
+  const fs::path seq = data / "sequences" / "neohookean" / "s3";
+  const NpyArray truth = readNpy((seq / "true-forces.npy").string());
+  constexpr int kSteps = 3;
+  const auto scene = [&](int reforecasts) {
+    const std::string force = ", stddev: 1, random_walk: 0.3}\n";
+    return "mesh: {file: " + (data / "mesh-remeshed" / "liver.msh").string() +
+           "}\n"
+           "material: {model: neohookean, young_modulus: 4500, poisson_ratio: 0.49}\n"
+           "integrator: {type: static, tolerance: 1.0e-6, max_iterations: 50}\n"
+           "time: {dt: 1, steps: " +
+           std::to_string(kSteps) + "}\nfixed:\n  - region: {nodes_file: " +
+           (data / "mesh-remeshed" / "dirichlet-vertices.npy").string() +
+           "}\nloads:\n  - region: {nodes_file: " +
+           (seq / "forces-vertices-remeshed.npy").string() +
+           "}\n"
+           "    total_force: [0, 0, 0]\n"
+           "    distribution: surface\n"
+           "output: {pvd: false}\n"
+           "assimilation:\n"
+           "  threads: 2\n"
+           "  tangent: mean\n"
+           "  tangent_refresh_every: 2\n"
+           "  tangent_background: true\n"
+           "  reforecasts: " +
+           std::to_string(reforecasts) +
+           "\n  parameters:\n"
+           "    - {name: Fx, force: {load: 0, component: x}, mean: 0" +
+           force + "    - {name: Fy, force: {load: 0, component: y}, mean: 0" + force +
+           "    - {name: Fz, force: {load: 0, component: z}, mean: 0" + force +
+           "  observations:\n    point_cloud:\n      files: \"" + (seq / "pointclouds").string() +
+           "/pc*.txt\"\n      surface: " +
+           (data / "mesh-remeshed" / "matching-triangles.npy").string() +
+           "\n      relinearizations: 8\n    sigma: 1.0e-3\n";
+  };
+  // The force error of each step's estimate (estimates.csv) against frame k - 1 of the data.
+  const auto errors = [&](const fs::path& run) {
+    std::vector<double> out;
+    std::ifstream csv(run / "estimates.csv");
+    std::string line;
+    std::getline(csv, line);
+    Eigen::Vector3d estimate = Eigen::Vector3d::Zero();
+    while (std::getline(csv, line)) {
+      std::stringstream row(line);
+      std::string step, time, name, mean;
+      std::getline(row, step, ',');
+      std::getline(row, time, ',');
+      std::getline(row, name, ',');
+      std::getline(row, mean, ',');
+      const int k = std::stoi(step);
+      if (k == 0) continue;
+      estimate(name == "Fx" ? 0 : name == "Fy" ? 1 : 2) = std::stod(mean);
+      if (name != "Fz") continue;
+      const Eigen::Map<const Eigen::Vector3d> f(truth.values.data() + 3 * (k - 1));
+      out.push_back((estimate - f).norm() / f.norm());
+    }
+    return out;
+  };
+  for (const int reforecasts : {0, 2}) {
+    SCOPED_TRACE("reforecasts " + std::to_string(reforecasts));
+    const Scene s = loadSceneFromString(scene(reforecasts), "register.yaml", dir.string());
+    const fs::path run = dir / ("reforecasts-" + std::to_string(reforecasts));
+    runAssimilation(s, run.string());
+    const std::vector<double> e = errors(run);
+    ASSERT_EQ(e.size(), static_cast<size_t>(kSteps));
+    std::cout << "[ mestdagh neohookean/s3 ] reforecasts " << reforecasts << ": force error "
+              << 100 * e[0] << ", " << 100 * e[1] << ", " << 100 * e[2] << " %\n";
+    if (reforecasts == 0) {
+      EXPECT_GT(e[0], 0.4);
+    } else {
+      for (double error : e) EXPECT_LE(error, 0.05);
+    }
+  }
 }
 
 }  // namespace
