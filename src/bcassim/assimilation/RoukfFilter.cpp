@@ -221,7 +221,11 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
                : move.dot(U_ * move) <= relinearizationTolerance_ * relinearizationTolerance_)
       break;
     const auto reforecastStart = Clock::now();
-    if (!ensemble_.recentre(x_)) break;
+    const bool worthwhile = ensemble_.recentre(x_);
+    if (!worthwhile) {
+      reforecastSeconds += secondsSince(reforecastStart);
+      break;
+    }
     // The points about the analysed mean with its covariance L U^-1 L^T = S S^T, S = L C^-T:
     // their anomalies are S I, so H L = (H S) C^T.
     const Eigen::MatrixXd C = choleskyWithRepair(U_, repairs);
