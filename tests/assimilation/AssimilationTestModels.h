@@ -196,6 +196,19 @@ class StaticSpring final : public ForecastModel {
   int step_ = 0;
 };
 
+// y = h(o) = (o0^2, o0 o1, o1^2) and its Jacobian: a nonlinear observation whose maximum a
+// posteriori estimate a few Gauss-Newton steps find.
+struct Quadratic {
+  static Eigen::Vector3d h(const Eigen::Vector2d& o) {
+    return {o(0) * o(0), o(0) * o(1), o(1) * o(1)};
+  }
+  static Eigen::Matrix<double, 3, 2> jacobian(const Eigen::Vector2d& o) {
+    Eigen::Matrix<double, 3, 2> J;
+    J << 2 * o(0), 0, o(1), o(0), 0, 2 * o(1);
+    return J;
+  }
+};
+
 // A random symmetric positive definite n x n matrix with eigenvalues in [0.1, 2.1].
 inline Eigen::MatrixXd randomSpd(Eigen::Index n, std::mt19937& rng) {
   std::normal_distribution<double> g(0.0, 1.0);

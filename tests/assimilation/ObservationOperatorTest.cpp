@@ -223,13 +223,9 @@ TEST(ObservationOperator, ParameterRandomWalkIsTheKalmanFilterWithProcessNoise) 
 // iterated Kalman filter, whose fixed point is the maximum a posteriori estimate.
 class QuadraticOperator final : public ObservationOperator {
  public:
-  static Eigen::Vector3d h(const Eigen::Vector2d& o) {
-    return {o(0) * o(0), o(0) * o(1), o(1) * o(1)};
-  }
+  static Eigen::Vector3d h(const Eigen::Vector2d& o) { return testing::Quadratic::h(o); }
   static Eigen::Matrix<double, 3, 2> jacobian(const Eigen::Vector2d& o) {
-    Eigen::Matrix<double, 3, 2> J;
-    J << 2 * o(0), 0, o(1), o(0), 0, 2 * o(1);
-    return J;
+    return testing::Quadratic::jacobian(o);
   }
   Observation linearize(const Eigen::VectorXd& mean, const Observation& frame) override {
     at_ = mean;
