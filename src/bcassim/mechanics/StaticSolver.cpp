@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "bcassim/Error.h"
@@ -148,6 +149,11 @@ void StaticSolver::newton(Increments& run, double lambda) {
     return model.storedEnergy(run.t, y) - fext.dot(y - run.rest);
   };
   double reference = 0;
+  // The potential and the inverted count at x, kept from the line search that accepted x (the
+  // loads do not change within this call): each iteration after the first saves a pass over the
+  // elements for each.
+  std::optional<double> potentialAtX;
+  std::optional<Eigen::Index> invertedAtX;
   for (int it = 0;; ++it) {
     model.internalForcesAndStiffness(run.t, x, run.fint, K_);
     run.g = run.fint - fext;
@@ -170,9 +176,9 @@ void StaticSolver::newton(Increments& run, double lambda) {
     solver_->solve(rhs, run.dx);
     // Backtracking (Armijo) on the total potential; the Newton step is a descent direction
     // while K is positive definite.
-    const double p0 = potential(x);
+    const double p0 = potentialAtX ? *potentialAtX : potential(x);
     const double slope = run.g.dot(run.dx);
-    const Eigen::Index inverted0 = model.elasticity.countInverted(x);
+    const Eigen::Index inverted0 = invertedAtX ? *invertedAtX : model.elasticity.countInverted(x);
     double alpha = 1.0;
     bool accepted = false;
     for (int ls = 0; ls < 30 && !accepted; ++ls) {
@@ -181,9 +187,16 @@ void StaticSolver::newton(Increments& run, double lambda) {
       // Round-off in the energy sum allows a relative slack, else converged steps would be
       // refused. Steps that invert elements are refused too: StVK's energy is not coercive, so
       // inverting a tet can lower it and Newton would otherwise walk into a collapsed state.
-      accepted = std::isfinite(p) &&
-                 p <= p0 + 1e-4 * alpha * std::min(slope, 0.0) + 1e-12 * std::abs(p0) &&
-                 model.elasticity.countInverted(run.trial) <= inverted0;
+      accepted =
+          std::isfinite(p) && p <= p0 + 1e-4 * alpha * std::min(slope, 0.0) + 1e-12 * std::abs(p0);
+      if (accepted) {
+        const Eigen::Index inverted = model.elasticity.countInverted(run.trial);
+        accepted = inverted <= inverted0;
+        if (accepted) {
+          potentialAtX = p;
+          invertedAtX = inverted;
+        }
+      }
       if (!accepted) alpha *= 0.5;
     }
     if (!accepted)
