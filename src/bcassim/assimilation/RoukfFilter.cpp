@@ -124,8 +124,8 @@ double RoukfFilter::predictedTrace(const Eigen::MatrixXd& HL, RepairLog& repairs
 // and H L = (H S) toForecast where H S is the regression of their predictions on their anomalies
 // (the forecast's own points: L itself, toForecast the identity, centre 0).
 struct RoukfFilter::Linearisation {
-  const Eigen::MatrixXd* observables = nullptr;
-  Eigen::MatrixXd predicted;
+  Eigen::MatrixXd observables;
+  Eigen::MatrixXd predicted;  // relinearised in place by correct()
   Eigen::MatrixXd toForecast;
   Eigen::VectorXd centre;
 };
@@ -137,13 +137,13 @@ struct RoukfFilter::Linearisation {
 // D_w I^T toForecast (g - centre): where a relinearisation linearises the operator again before
 // correcting from the same forecast. Returns g (empty when nothing was in the operator's reach;
 // then x_ and U_ are left as they were).
-Eigen::VectorXd RoukfFilter::correct(const Observation& y, Observation used,
-                                     const Linearisation& at, const Eigen::VectorXd& forecastMean,
+Eigen::VectorXd RoukfFilter::correct(const Observation& y, Observation used, Linearisation& at,
+                                     const Eigen::VectorXd& forecastMean,
                                      const Eigen::MatrixXd& forecastU, FilterStepReport& report,
                                      RepairLog& repairs) {
   const Eigen::VectorXd& w = sigma_.weights;
   const Eigen::MatrixXd DIt = w.asDiagonal() * sigma_.unit.transpose();  // s x r
-  Eigen::MatrixXd predicted = at.predicted;
+  Eigen::MatrixXd& predicted = at.predicted;
   Eigen::VectorXd gain, previousGain;
   for (int pass = 0;; ++pass) {
     const ObservedSubset obs(used, predicted.rows());
@@ -173,7 +173,7 @@ Eigen::VectorXd RoukfFilter::correct(const Observation& y, Observation used,
       if (d.dot(U_ * d) <= relinearizationTolerance_ * relinearizationTolerance_) break;
     }
     previousGain = gain;
-    used = ensemble_.predict(y, w, *at.observables, predicted,
+    used = ensemble_.predict(y, w, at.observables, predicted,
                              DIt * (at.toForecast * (gain - at.centre)));
   }
   return gain;
@@ -208,12 +208,12 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
   Observation used = ensemble_.predict(y, w, O, Z);
   const Eigen::VectorXd forecastMean = x_;
   const Eigen::MatrixXd forecastU = U_;
-  Linearisation at{&O, std::move(Z), Eigen::MatrixXd::Identity(r, r), Eigen::VectorXd::Zero(r)};
+  Linearisation at{std::move(O), std::move(Z), Eigen::MatrixXd::Identity(r, r),
+                   Eigen::VectorXd::Zero(r)};
   Eigen::VectorXd gain = correct(y, std::move(used), at, forecastMean, forecastU, report, repairs);
 
   // Iterated: where the analysis left the forecasts' reach, forecast again about it. The first
   // move is judged under the forecast covariance, the next ones under the analysed one.
-  Eigen::MatrixXd Oi;
   double reforecastSeconds = 0;
   for (int k = 0; k < reforecasts_ && gain.size() > 0; ++k) {
     const Eigen::VectorXd move = gain - at.centre;
@@ -231,19 +231,17 @@ FilterStepReport RoukfFilter::step(const Observation& y) {
     const Eigen::MatrixXd C = choleskyWithRepair(U_, repairs);
     const Eigen::MatrixXd S = C.triangularView<Eigen::Lower>().solve(L_.transpose()).transpose();
     Eigen::MatrixXd Xi;
+    Linearisation next{Eigen::MatrixXd(), Eigen::MatrixXd(), C.transpose(), gain};
     const ForecastRetries again =
-        ensemble_.forecastRetrying(sigma_.points(x_, S), w, forecastRetries_, Xi, Oi);
+        ensemble_.forecastRetrying(sigma_.points(x_, S), w, forecastRetries_, Xi, next.observables);
     report.forecastHalvings += again.halvings;
     if (report.forecastFailure.empty()) report.forecastFailure = again.failure;
     reforecastSeconds += secondsSince(reforecastStart);
-    Linearisation next{&Oi, Eigen::MatrixXd(), C.transpose(), gain};
-    Observation nextUsed = ensemble_.predict(y, w, Oi, next.predicted);
+    Observation nextUsed = ensemble_.predict(y, w, next.observables, next.predicted);
     ++report.reforecasts;
     Eigen::VectorXd nextGain =
         correct(y, std::move(nextUsed), next, forecastMean, forecastU, report, repairs);
     if (nextGain.size() == 0) break;  // nothing left in reach there: the last analysis stands
-    O.swap(Oi);
-    next.observables = &O;
     at = std::move(next);
     gain = std::move(nextGain);
   }

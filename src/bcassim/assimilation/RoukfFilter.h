@@ -70,7 +70,7 @@ class RoukfFilter final : public Filter {
   void addParameterNoise(RepairLog& repairs);
   double predictedTrace(const Eigen::MatrixXd& HL, RepairLog& repairs) const;
   struct Linearisation;
-  Eigen::VectorXd correct(const Observation& y, Observation used, const Linearisation& at,
+  Eigen::VectorXd correct(const Observation& y, Observation used, Linearisation& at,
                           const Eigen::VectorXd& forecastMean, const Eigen::MatrixXd& forecastU,
                           FilterStepReport& report, RepairLog& repairs);
 
