@@ -58,22 +58,6 @@ Scene prepare(const std::filesystem::path& dir, const std::string& truthYaml,
   return loadSceneFromString(estimationYaml, "estimation.yaml", dir.string());
 }
 
-// Mean of `parameter` in estimates.csv at `step`.
-double estimateAt(const std::filesystem::path& csv, const std::string& parameter, int step) {
-  std::ifstream in(csv);
-  std::string line;
-  const std::string prefix = std::to_string(step) + ",";
-  while (std::getline(in, line)) {
-    if (line.rfind(prefix, 0) != 0) continue;
-    std::vector<std::string> f;
-    std::stringstream s(line);
-    for (std::string x; std::getline(s, x, ',');) f.push_back(x);
-    if (f.size() == 5 && f[2] == parameter) return std::stod(f[3]);
-  }
-  ADD_FAILURE() << "no estimate of " << parameter << " at step " << step;
-  return NAN;
-}
-
 TEST(Assimilation, SmallCylinderYoungModulusSameMesh) {
   const auto dir = freshDir();
   const int steps = 200;
@@ -114,7 +98,7 @@ TEST(Assimilation, SmallCylinderYoungModulusSameMesh) {
   EXPECT_EQ(test::countLines(test::readText(dir / "est" / "errors_summary.csv")), 5);
   EXPECT_NE(test::readText(dir / "est" / "parameters.csv").find("E,4000,2000,8000,"),
             std::string::npos);
-  EXPECT_EQ(estimateAt(dir / "est" / "estimates.csv", "E", 0), 4000.0);
+  EXPECT_EQ(test::estimateAt(dir / "est" / "estimates.csv", "E", 0), 4000.0);
 
   // validate: a forward run with the final estimate over the whole horizon.
   const AssimilationResult v =
@@ -175,7 +159,7 @@ TEST(Assimilation, CutLigamentEstimateDropsAfterTheCut) {
                        300));
   const AssimilationResult r = runAssimilation(scene, (dir / "est").string());
   const auto csv = dir / "est" / "estimates.csv";
-  const double beforeCut = estimateAt(csv, "kg", 150);
+  const double beforeCut = test::estimateAt(csv, "kg", 150);
   EXPECT_NEAR(beforeCut, 20.0, 2.0);
   EXPECT_LT(std::abs(r.parameters[0].mean), 0.2 * beforeCut);
   EXPECT_FALSE(r.validated);

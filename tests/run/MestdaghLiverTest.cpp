@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -174,21 +173,10 @@ TEST(MestdaghLiver, ReforecastsRegisterTheFirstNeoHookeanFramesFromTheCloudsAlon
   // The force error of each step's estimate (estimates.csv) against frame k - 1 of the data.
   const auto errors = [&](const fs::path& run) {
     std::vector<double> out;
-    std::ifstream csv(run / "estimates.csv");
-    std::string line;
-    std::getline(csv, line);
-    Eigen::Vector3d estimate = Eigen::Vector3d::Zero();
-    while (std::getline(csv, line)) {
-      std::stringstream row(line);
-      std::string step, time, name, mean;
-      std::getline(row, step, ',');
-      std::getline(row, time, ',');
-      std::getline(row, name, ',');
-      std::getline(row, mean, ',');
-      const int k = std::stoi(step);
-      if (k == 0) continue;
-      estimate(name == "Fx" ? 0 : name == "Fy" ? 1 : 2) = std::stod(mean);
-      if (name != "Fz") continue;
+    for (int k = 1; k <= kSteps; ++k) {
+      Eigen::Vector3d estimate;
+      for (int c = 0; c < 3; ++c)
+        estimate(c) = test::estimateAt(run / "estimates.csv", std::string("F") + "xyz"[c], k);
       const Eigen::Map<const Eigen::Vector3d> f(truth.values.data() + 3 * (k - 1));
       out.push_back((estimate - f).norm() / f.norm());
     }

@@ -5,11 +5,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace bcassim::test {
 
@@ -54,6 +56,23 @@ inline int countOccurrences(const std::string& text, const std::string& what) {
   int n = 0;
   for (size_t pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + 1)) ++n;
   return n;
+}
+
+// Mean of `parameter` at `step` in an assimilation run's estimates.csv
+// (step,time_s,parameter,mean,stddev); a test failure and NaN when there is none.
+inline double estimateAt(const std::filesystem::path& csv, const std::string& parameter, int step) {
+  std::ifstream in(csv);
+  std::string line;
+  const std::string prefix = std::to_string(step) + ",";
+  while (std::getline(in, line)) {
+    if (line.rfind(prefix, 0) != 0) continue;
+    std::vector<std::string> f;
+    std::stringstream s(line);
+    for (std::string x; std::getline(s, x, ',');) f.push_back(x);
+    if (f.size() == 5 && f[2] == parameter) return std::stod(f[3]);
+  }
+  ADD_FAILURE() << "no estimate of " << parameter << " at step " << step << " in " << csv;
+  return std::nan("");
 }
 
 struct CliResult {
