@@ -335,8 +335,14 @@ bool MechanicalForecastModel::chordMean(double t, Eigen::VectorXd& end) {
   meanChordSteps_ = 0;
   try {
     for (;;) {
-      const StaticReport report = statics_->chordSolve(
-          model_, t, x, *shared_->tangent, kChordIterations, true, options_.meanThreads);
+      // Going on with the same tangent is one chord (its Anderson history kept); a rebuilt
+      // tangent starts another.
+      const StaticReport report =
+          continued && !rebuilt
+              ? statics_->continueChord(model_, t, x, *shared_->tangent, kChordIterations, true,
+                                        options_.meanThreads)
+              : statics_->chordSolve(model_, t, x, *shared_->tangent, kChordIterations, true,
+                                     options_.meanThreads);
       stats_.linearIterations += report.iterations;
       meanChordSteps_ += report.iterations;
       converged = report.converged;

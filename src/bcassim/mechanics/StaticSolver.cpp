@@ -11,7 +11,6 @@
 #include "bcassim/Error.h"
 #include "bcassim/mechanics/InvertedElementError.h"
 #include "bcassim/mechanics/ResidualFloor.h"
-#include "bcassim/mechanics/solvers/AndersonMixing.h"
 
 namespace bcassim {
 
@@ -38,7 +37,7 @@ int chordStepsToGo(const StaticReport& report) {
       !(report.residualNorm > report.tolerance) || !(report.initialResidualNorm > 0))
     return kUnknown;
   const double rate =
-      std::log(report.residualNorm / report.initialResidualNorm) / (report.iterations - 1);
+      std::log(report.residualNorm / report.initialResidualNorm) / report.iterations;
   if (!(rate < 0)) return kUnknown;
   const double steps = std::ceil(std::log(report.tolerance / report.residualNorm) / rate);
   return steps < kUnknown ? static_cast<int>(steps) : kUnknown;
@@ -46,7 +45,10 @@ int chordStepsToGo(const StaticReport& report) {
 
 StaticSolver::StaticSolver(const MechanicalModel& model, std::unique_ptr<LinearSolver> solver,
                            StaticOptions options)
-    : solver_(std::move(solver)), options_(options), K_(model.pattern->emptyMatrix()) {
+    : solver_(std::move(solver)),
+      options_(options),
+      K_(model.pattern->emptyMatrix()),
+      chordMixing_(kChordMixingDepth) {
   if (!(options_.minIncrementFraction > 0) || options_.minIncrementFraction > 1)
     throw InputError(
         fmt::format("static solver: the smallest load increment must be a fraction in (0, 1] of a "
@@ -210,6 +212,19 @@ void StaticSolver::newton(Increments& run, double lambda) {
 StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Eigen::VectorXd& x,
                                       const FrozenTangent& tangent, int maxIterations,
                                       bool singlePrecision, int threads) {
+  return chordIterations(model, t, x, tangent, maxIterations, singlePrecision, threads, false);
+}
+
+StaticReport StaticSolver::continueChord(const MechanicalModel& model, double t, Eigen::VectorXd& x,
+                                         const FrozenTangent& tangent, int maxIterations,
+                                         bool singlePrecision, int threads) {
+  return chordIterations(model, t, x, tangent, maxIterations, singlePrecision, threads, true);
+}
+
+StaticReport StaticSolver::chordIterations(const MechanicalModel& model, double t,
+                                           Eigen::VectorXd& x, const FrozenTangent& tangent,
+                                           int maxIterations, bool singlePrecision, int threads,
+                                           bool continuing) {
   if (!tangent.isStatic())
     throw std::invalid_argument("StaticSolver::chordSolve: needs a static tangent (K, not W)");
   // The split kernels' threads are kept between calls: a model's sigma point (serial) and its
@@ -251,7 +266,9 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
   double potential = std::numeric_limits<double>::quiet_NaN();  // at x, once needed
   report.initialResidualNorm = norm;
   const double reference = std::max({chordFext_.norm(), chordFint_.norm(), 1e-300});
-  AndersonMixing mixing(kChordMixingDepth);
+  // A continuation goes on with the last call's mixing history (its steps are of the same map).
+  if (!continuing) chordMixing_.clear();
+  AndersonMixing& mixing = chordMixing_;
   for (;;) {
     report.residualNorm = norm;
     if (!std::isfinite(norm))
@@ -279,9 +296,10 @@ StaticReport StaticSolver::chordSolve(const MechanicalModel& model, double t, Ei
       bc.eliminateRightHandSide(tangent.systemMatrix(), chordRhs_, chordKnown_);
     }
     tangent.solve(D, chordRhs_, chordDx_, work, singlePrecision);
-    if (report.iterations == maxIterations) {
-      // The last step's residual is not evaluated: a linearised step needs none, and a solve
-      // that needed all of its steps is finished by Newton anyway.
+    if (maxIterations == 1) {
+      // One linearised step (a sigma point about its mean) needs no residual after it. Longer
+      // runs evaluate their last step as any other: a blind last step could leave a caller that
+      // finishes by Newton a start far worse than the iterate before it, and say nothing of it.
       x += chordDx_;
       placeExactly(x);
       model.elasticity.requireNoInverted(x);

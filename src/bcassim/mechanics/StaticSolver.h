@@ -8,6 +8,7 @@
 #include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/mechanics/MechanicalModel.h"
 #include "bcassim/mechanics/StepFailure.h"
+#include "bcassim/mechanics/solvers/AndersonMixing.h"
 #include "bcassim/mechanics/solvers/LinearSolver.h"
 
 namespace bcassim {
@@ -35,8 +36,8 @@ struct StaticReport {
 };
 
 // The chord steps a chordSolve that stopped short would still need to reach its tolerance, at the
-// contraction its steps had on average (its residual is the one before its last step, so this
-// errs long); INT_MAX where it did not contract or cannot tell (fewer than two steps).
+// contraction its steps had on average; INT_MAX where it did not contract or cannot tell (fewer
+// than two steps).
 int chordStepsToGo(const StaticReport& report);
 
 class StaticSolver {
@@ -59,11 +60,12 @@ class StaticSolver {
   // at once (no ramp), prescribed displacements reached by the first step. Later steps are
   // Anderson-mixed (AndersonMixing) and kept only where they lower the residual, else the plain
   // step, halved down to a quarter. Stops converged at Newton's tolerance; stops not converged
-  // after maxIterations steps (the residual after the last one is not evaluated) or when no step
-  // lowers the residual, leaving x at the last iterate for the caller to finish with solve().
-  // maxIterations = 1 makes one linearised step, a filter's sigma point about its mean. Throws
-  // InvertedElementError if x has an inverted element at the start, after the prescribed motion
-  // or after the last of maxIterations steps; the caller falls back to solve() from its start.
+  // after maxIterations steps or when no step lowers the residual, leaving x at the last iterate
+  // (its residual in the report) for the caller to finish with solve(). maxIterations = 1 makes
+  // one linearised step, a filter's sigma point about its mean, whose residual is not evaluated
+  // (the report's is the start's). Throws InvertedElementError if x has an inverted element at
+  // the start, after the prescribed motion or after that single step; the caller falls back to
+  // solve() from its start.
   // singlePrecision: each step solves with the factor rounded to float (FrozenTangent::solve);
   // the iterations converge to the same equilibrium, the residual being computed in double.
   // threads >= 1: the force assemblies and the single-precision solves are split over that many
@@ -72,6 +74,11 @@ class StaticSolver {
   StaticReport chordSolve(const MechanicalModel& model, double t, Eigen::VectorXd& x,
                           const FrozenTangent& tangent, int maxIterations,
                           bool singlePrecision = false, int threads = 0);
+  // More steps of the last chordSolve, from where it stopped (x, t and tangent as they were left),
+  // its Anderson history kept: a chord that is contracting but ran out of steps goes on as one.
+  StaticReport continueChord(const MechanicalModel& model, double t, Eigen::VectorXd& x,
+                             const FrozenTangent& tangent, int maxIterations,
+                             bool singlePrecision = false, int threads = 0);
   // The solver of the Newton systems (to share a factorisation between workers).
   LinearSolver& linearSolver() { return *solver_; }
 
@@ -80,12 +87,16 @@ class StaticSolver {
   void factorizeRegularized(const MechanicalModel& model);
   void solveIncrement(Increments& run, double from, double to);
   void newton(Increments& run, double lambda);
+  StaticReport chordIterations(const MechanicalModel& model, double t, Eigen::VectorXd& x,
+                               const FrozenTangent& tangent, int maxIterations,
+                               bool singlePrecision, int threads, bool continuing);
 
   std::unique_ptr<LinearSolver> solver_;
   StaticOptions options_;
   SparseMatrix K_;
   Eigen::VectorXd equilibriumLoad_;  // f_ext the last solve ended at (N); empty before the first
   Eigen::VectorXd chordFext_, chordFint_, chordRhs_, chordDx_, chordKnown_, chordTrial_, chordG_;
+  AndersonMixing chordMixing_;
   CholeskyFactor::Workspace chordWork_;       // threads 0
   CholeskyFactor::Workspace chordSplitWork_;  // threads >= 1, with chordChunks_
   std::unique_ptr<ChunkedForces> chordChunks_;
