@@ -254,9 +254,10 @@ TEST(MechanicalForecastModel, FailedForecastStepsAreHalvedAndCounted) {
 }
 
 // An iterated static frame (RoukfOptions::reforecasts): recentre() makes the analysed mean's
-// equilibrium at the frame's own time the reference, forecasts then solve for that same time,
-// and endStep() still ends that frame; where the stiffness in use already solves the new mean at
-// once, a re-forecast is said not to be worthwhile.
+// equilibrium at the frame's own time the reference (close enough to linearise about), forecasts
+// then solve for that same time, and endStep() still ends that frame at its exact equilibrium;
+// where the stiffness in use already solves the new mean at once, a re-forecast is said not to be
+// worthwhile.
 TEST(MechanicalForecastModel, RecentringAStaticFrameKeepsItsTimeAndSaysWhenItCannotHelp) {
   MechanicalModel model = cylinderModel();  // its load a sine of time: each frame's differs
   const std::vector<MappedPoint> observed = mapPoints(*model.mesh, model.mesh->V.topRows(5));
@@ -284,16 +285,21 @@ TEST(MechanicalForecastModel, RecentringAStaticFrameKeepsItsTimeAndSaysWhenItCan
   ASSERT_GT(motion, 1e-4);
 
   const Eigen::VectorXd E = Eigen::VectorXd::Constant(1, 6000.0);
-  // The rest shape's stiffness (E = 8000) does not solve it at once: worth re-forecasting.
+  // The rest shape's stiffness (E = 8000) does not solve it at once: worth re-forecasting. The
+  // re-centred mean is a linearisation point, solved to 1 % of the forces (not to the scene's
+  // 1e-10), a fraction of a percent of the motion here.
   EXPECT_TRUE(adapter.recentre(Eigen::VectorXd(), E));
   EXPECT_NEAR(adapter.reference().t, dt, 1e-15);
-  EXPECT_LT((adapter.reference().x - atFrame).norm(), 1e-7 * motion);
-  // A forecast now solves for the same time: one chord step from that equilibrium stays there.
+  const double recentredOff = (adapter.reference().x - atFrame).norm();
+  EXPECT_LT(recentredOff, 1e-2 * motion);
+  // A forecast now solves for the same time: one chord step from there lands on the equilibrium
+  // to second order.
   Eigen::VectorXd newState, predicted;
   adapter.forecast(Eigen::VectorXd(), E, newState, predicted);
   for (int i = 0; i < 5; ++i)
     EXPECT_LT((predicted.segment<3>(3 * i) - interpolate(observed[i], *model.mesh, atFrame)).norm(),
-              1e-7 * motion);
+              1e-2 * recentredOff)
+        << recentredOff / motion;
   // Again at the same mean: the stiffness built there solves it at once.
   EXPECT_FALSE(adapter.recentre(Eigen::VectorXd(), E));
   EXPECT_NEAR(adapter.reference().t, dt, 1e-15);

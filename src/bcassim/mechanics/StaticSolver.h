@@ -79,6 +79,10 @@ class StaticSolver {
   StaticReport continueChord(const MechanicalModel& model, double t, Eigen::VectorXd& x,
                              const FrozenTangent& tangent, int maxIterations,
                              bool singlePrecision = false, int threads = 0);
+  // The relative tolerance of the solves from now on (StaticOptions::relativeTolerance): looser
+  // for an equilibrium that only serves as a linearisation point.
+  double relativeTolerance() const { return options_.relativeTolerance; }
+  void setRelativeTolerance(double tolerance) { options_.relativeTolerance = tolerance; }
   // The solver of the Newton systems (to share a factorisation between workers).
   LinearSolver& linearSolver() { return *solver_; }
 
