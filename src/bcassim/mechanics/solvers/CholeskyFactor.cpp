@@ -18,23 +18,25 @@
 #include "bcassim/mechanics/solvers/SupernodalCholesky.h"
 
 namespace bcassim {
-namespace {
 
 // A cholmod_common set up for bcassim: supernodal LL^T, quiet (the library never prints), CPU
 // only. Every object that calls CHOLMOD owns one, because CHOLMOD keeps workspace and status
-// there and is thread-safe only across distinct cholmod_common objects.
-struct Common {
+// there and is thread-safe only across distinct cholmod_common objects. (Outside the anonymous
+// namespace, as SubtreeSplit and SplitScratch: the header's classes hold them.)
+struct CholmodCommon {
   cholmod_common c;
-  Common() {
+  CholmodCommon() {
     cholmod_start(&c);
     c.print = 0;
     c.supernodal = CHOLMOD_SUPERNODAL;
     c.useGPU = 0;
   }
-  ~Common() { cholmod_finish(&c); }
-  Common(const Common&) = delete;
-  Common& operator=(const Common&) = delete;
+  ~CholmodCommon() { cholmod_finish(&c); }
+  CholmodCommon(const CholmodCommon&) = delete;
+  CholmodCommon& operator=(const CholmodCommon&) = delete;
 };
+
+namespace {
 
 // Throws for a CHOLMOD call that failed; where names the operation.
 void check(int ok, const cholmod_common& c, const char* where) {
@@ -301,12 +303,17 @@ SubtreeSplit splitSupernodes(const cholmod_factor& L) {
   return split;
 }
 
-// Per-group scratch of a split solve in precision Scalar.
+}  // namespace
+
+// Per-group scratch of a split solve in precision Scalar. Outside the anonymous namespace, as
+// SubtreeSplit: Workspace::Impl holds them.
 template <typename Scalar>
 struct SplitScratch {
   using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
   std::vector<Vector> t, delta;  // per group: products; what the group takes from the top rows
 };
+
+namespace {
 
 // supernodalSolve with the groups of `split` on `arena`'s threads: the forward sweep runs the
 // groups concurrently, each collecting what it takes from the top rows in its own delta, then the
@@ -375,7 +382,7 @@ void splitSupernodalSolve(const cholmod_factor& L, const Scalar* Lx, const Subtr
 }  // namespace
 
 struct CholeskyFactor::Symbolic {
-  Common common;
+  CholmodCommon common;
   cholmod_factor* L = nullptr;  // supernodal, pattern only; copied by every Numeric
   Eigen::Index rows = 0;
   Eigen::Index matrixNonZeros = 0;
@@ -418,7 +425,7 @@ struct SingleCopy {
 };
 
 struct CholeskyFactor::Numeric {
-  Common common;
+  CholmodCommon common;
   cholmod_factor* L = nullptr;  // numerical factor, valid when factorized
   bool factorized = false;
   std::unique_ptr<SingleCopy> single = std::make_unique<SingleCopy>();
@@ -441,7 +448,7 @@ struct CholeskyFactor::Numeric {
 };
 
 struct CholeskyFactor::Workspace::Impl {
-  Common common;
+  CholmodCommon common;
   cholmod_dense* X = nullptr;  // solution, copied out to Eigen
   cholmod_dense* Y = nullptr;  // permuted right-hand sides
   cholmod_dense* E = nullptr;  // supernodal solve scratch
