@@ -113,3 +113,8 @@ inline std::string sharedFile(const std::string& relative) {
 }
 
 }  // namespace bcassim::test
+
+// `var`: the shared data file at `relative` (sharedFile), or the test is skipped, saying which.
+#define SHARED_FILE_OR_SKIP(var, relative)                       \
+  const std::string var = ::bcassim::test::sharedFile(relative); \
+  if (var.empty()) GTEST_SKIP() << "shared data file " << relative << " not found"

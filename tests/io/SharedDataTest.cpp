@@ -11,12 +11,6 @@
 namespace bcassim {
 namespace {
 
-using test::sharedFile;
-
-#define SHARED_FILE_OR_SKIP(var, relative)      \
-  const std::string var = sharedFile(relative); \
-  if (var.empty()) GTEST_SKIP() << "shared data file " << relative << " not found"
-
 TEST(SharedData, OptimusCylinder) {
   SHARED_FILE_OR_SKIP(path, "optimus-cylinder/cylinder3_770.vtk");
   const TetMesh mesh = readTetMesh(path);

@@ -214,9 +214,11 @@ vtkSmartPointer<vtkPolyData> testSurface() {
   vtkNew<vtkPoints> points;
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> coordinate(0.0, 1.0);
-  for (int i = 0; i < 40; ++i)
-    points->InsertNextPoint(i % 8 + coordinate(rng) / 7, i / 8 + coordinate(rng) / 7,
+  for (int i = 0; i < 40; ++i) {
+    const int row = i / 8, column = i % 8;  // a jittered 8 x 5 grid
+    points->InsertNextPoint(column + coordinate(rng) / 7, row + coordinate(rng) / 7,
                             coordinate(rng) / 3);
+  }
   poly->SetPoints(points);
   vtkNew<vtkCellArray> polys, strips, verts, lines;
   for (int r = 0; r < 3; ++r)
@@ -290,10 +292,6 @@ TEST(VtkReaderEquivalence, StlAsciiAndBinaryWithSharedVertices) {
     expectSameSurface(readSurface(path), referenceSurface<vtkSTLReader>(path));
   }
 }
-
-#define SHARED_FILE_OR_SKIP(var, relative)            \
-  const std::string var = test::sharedFile(relative); \
-  if (var.empty()) GTEST_SKIP() << "shared data file " << relative << " not found"
 
 TEST(VtkReaderEquivalence, SharedCylinderAndFineLiver) {
   SHARED_FILE_OR_SKIP(cylinder, "optimus-cylinder/cylinder3_770.vtk");
