@@ -12,6 +12,7 @@
 #include "atlas/AtlasTestMeshes.h"
 #include "bcassim/atlas/FaceKernelDistance.h"
 #include "bcassim/io/SurfaceReader.h"
+#include "support/SharedData.h"
 
 namespace bcassim {
 namespace {
@@ -96,7 +97,7 @@ std::vector<std::vector<double>> csvNumbers(const fs::path& path) {
   return rows;
 }
 
-const fs::path kLivers = fs::path(BCASSIM_SOURCE_DIR) / "../shared/data/livers";
+const fs::path kLivers = fs::path(test::sharedDataDir()) / "livers";
 
 // In a fresh dir: an atlas of the first three shared livers (dir/atlas, with its template's
 // ridge), then `atlas transfer` of it onto `liver` compared with its .eseg (dir/transfer).
@@ -113,7 +114,7 @@ CliRun transferOfASmallAtlas(const fs::path& dir, const std::string& liver,
 }
 
 TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
-  if (!fs::exists(kLivers / "LiTS-3.eseg")) GTEST_SKIP() << "no annotated livers in " << kLivers;
+  SHARED_FILE_OR_SKIP(eseg, "livers/LiTS-3.eseg");
   const fs::path dir = fs::temp_directory_path() / "bcassim_atlas_cli_transfer";
   const CliRun transfer = transferOfASmallAtlas(dir, "LiTS-3");
   ASSERT_EQ(transfer.code, 0) << transfer.err;
@@ -137,14 +138,14 @@ TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
     EXPECT_NEAR(rigid[i][5], 1e3 * rigid[i][4], 1e-9);
   }
   // The patient's ridge matched with the atlas template's (multi-object data term).
-  const CliRun ridged = runCli(dir, "atlas transfer atlas '" + (kLivers / "LiTS-3.obj").string() +
-                                        "' --ridge-from '" + (kLivers / "LiTS-3.eseg").string() +
-                                        "' --iterations 5 --out ridged");
+  const CliRun ridged =
+      runCli(dir, "atlas transfer atlas '" + (kLivers / "LiTS-3.obj").string() +
+                      "' --ridge-from '" + eseg + "' --iterations 5 --out ridged");
   ASSERT_EQ(ridged.code, 0) << ridged.err;
   EXPECT_TRUE(fs::exists(dir / "ridged/ligament_curve.csv"));
   // A .eseg that labels no ridge: one line naming it.
   {
-    std::ifstream in(kLivers / "LiTS-3.eseg");
+    std::ifstream in(eseg);
     std::ofstream out(dir / "no-ridge.eseg");
     for (std::string line; std::getline(in, line);) {  // the shared files end lines with \r\n
       if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -163,7 +164,7 @@ TEST(AtlasCli, TransferWritesTheRigidTransformAndTheCurveInTheFileUnits) {
 // tell them apart; the run must say so (and keep the multi-start's pose, the right one here).
 // The patient's ridge, when labelled, can: fitted with the surfaces, no rival is left.
 TEST(AtlasCli, TransferSaysWhenTwoPosesFitAlike) {
-  if (!fs::exists(kLivers / "LiTS-9.eseg")) GTEST_SKIP() << "no annotated livers in " << kLivers;
+  SHARED_FILE_OR_SKIP(eseg, "livers/LiTS-9.eseg");
   const fs::path dir = fs::temp_directory_path() / "bcassim_atlas_cli_pose";
   const CliRun transfer = transferOfASmallAtlas(dir, "LiTS-9");
   ASSERT_EQ(transfer.code, 0) << transfer.err;
@@ -176,8 +177,7 @@ TEST(AtlasCli, TransferSaysWhenTwoPosesFitAlike) {
   EXPECT_LT(mean, 40.0) << rest;  // mm; the rival pose: 93 mm
   const CliRun ridged =
       runCli(dir, "atlas transfer atlas '" + (kLivers / "LiTS-9.obj").string() + "' --eseg '" +
-                      (kLivers / "LiTS-9.eseg").string() + "' --ridge-from '" +
-                      (kLivers / "LiTS-9.eseg").string() + "' --iterations 5 --out ridged");
+                      eseg + "' --ridge-from '" + eseg + "' --iterations 5 --out ridged");
   ASSERT_EQ(ridged.code, 0) << ridged.err;
   EXPECT_NE(ridged.out.find("mm (surface and ridge together, the ridge's closest 80 %)\n"),
             std::string::npos)

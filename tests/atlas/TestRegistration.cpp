@@ -12,6 +12,7 @@
 #include "bcassim/atlas/RegistrationObjective.h"
 #include "bcassim/atlas/VarifoldDistance.h"
 #include "bcassim/io/SurfaceReader.h"
+#include "support/SharedData.h"
 
 namespace bcassim {
 namespace {
@@ -80,10 +81,9 @@ TEST(Registration, RecoversKnownDeformation) {
 }
 
 TEST(Registration, TwoRealLivers) {
-  const std::filesystem::path dir =
-      std::filesystem::path(BCASSIM_SOURCE_DIR) / "../shared/data/livers";
+  const std::filesystem::path dir = test::sharedPath("livers");
   std::vector<std::filesystem::path> files;
-  if (std::filesystem::exists(dir)) {
+  if (!dir.empty()) {
     for (const auto& e : std::filesystem::directory_iterator(dir))
       if (e.path().extension() == ".obj") files.push_back(e.path());
   }

@@ -14,7 +14,7 @@
 #include "bcassim/experiments/tracked/SyntheticDepthCamera.h"
 #include "bcassim/experiments/tracked/TrackedLiverPipeline.h"
 #include "bcassim/experiments/tracked/TrackingScore.h"
-#include "ligaments/LigamentTestData.h"
+#include "support/SharedData.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -270,11 +270,10 @@ TEST(TrackedLiverPipeline, SurfaceRelinearizationsReachTheEstimation) {
 // registration is asserted; the noise (1 mm per coordinate, 11 frames averaged) and the coarse
 // model's surface against the truth's leave about 1 mm.
 TEST(TrackedLiverPipeline, LiTS11TackersRegisterNearTheTruePose) {
-  const std::string data = test::ligamentDataDir();
-  if (data.empty()) GTEST_SKIP() << "shared data directory not found (set BCASSIM_DATA)";
+  SHARED_FILE_OR_SKIP(liver, "livers/LiTS-11.obj");
   const auto dir = freshDir();
   TrackedLiverOptions o;
-  o.liver.surface = data + "/livers/LiTS-11.obj";
+  o.liver.surface = liver;
   o.liver.steps = 6;
   o.liver.observedSteps = 3;
   o.liver.threads = 2;

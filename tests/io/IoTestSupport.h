@@ -1,8 +1,8 @@
-// Helpers of the io tests: a scratch directory, small meshes, and capture of one-line errors.
+// Helpers of the io tests: a scratch directory, small meshes, capture of one-line errors, and
+// (support/SharedData.h) the shared data files.
 #pragma once
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -12,6 +12,7 @@
 #include "bcassim/Error.h"
 #include "bcassim/mesh/TetMesh.h"
 #include "bcassim/mesh/TriMesh.h"
+#include "support/SharedData.h"
 
 namespace bcassim::test {
 
@@ -92,29 +93,4 @@ inline std::string inputErrorOf(const std::function<void()>& f) {
     EXPECT_EQ(message_.find('\n'), std::string::npos) << message_;                  \
   } while (false)
 
-// The shared data directory: $BCASSIM_DATA (relative to the source tree when relative), else
-// <source>/../shared/data. Empty when absent.
-inline std::string sharedDataDir() {
-  std::filesystem::path dir;
-  if (const char* env = std::getenv("BCASSIM_DATA"); env && *env) {
-    dir = env;
-    if (dir.is_relative()) dir = std::filesystem::path(BCASSIM_SOURCE_DIR) / dir;
-  } else {
-    dir = std::filesystem::path(BCASSIM_SOURCE_DIR) / ".." / "shared" / "data";
-  }
-  return std::filesystem::is_directory(dir) ? dir.string() : std::string();
-}
-
-inline std::string sharedFile(const std::string& relative) {
-  const std::string dir = sharedDataDir();
-  if (dir.empty()) return {};
-  const std::filesystem::path p = std::filesystem::path(dir) / relative;
-  return std::filesystem::is_regular_file(p) ? p.string() : std::string();
-}
-
 }  // namespace bcassim::test
-
-// `var`: the shared data file at `relative` (sharedFile), or the test is skipped, saying which.
-#define SHARED_FILE_OR_SKIP(var, relative)                       \
-  const std::string var = ::bcassim::test::sharedFile(relative); \
-  if (var.empty()) GTEST_SKIP() << "shared data file " << relative << " not found"

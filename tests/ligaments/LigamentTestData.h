@@ -1,8 +1,7 @@
-// Helpers of the ligaments tests: the shared data directory and a synthetic icosphere surface.
+// Helper of the ligaments and atlas tests: a synthetic icosphere surface (the shared data
+// directory: support/SharedData.h).
 #pragma once
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <string>
 #include <utility>
@@ -11,15 +10,6 @@
 #include "bcassim/mesh/TriMesh.h"
 
 namespace bcassim::test {
-
-// BCASSIM_DATA, else <source>/../shared/data; empty when neither exists.
-inline std::string ligamentDataDir() {
-  if (const char* env = std::getenv("BCASSIM_DATA"); env && std::filesystem::is_directory(env)) {
-    return env;
-  }
-  const std::string dir = std::string(BCASSIM_SOURCE_DIR) + "/../shared/data";
-  return std::filesystem::is_directory(dir + "/livers") ? dir : std::string();
-}
 
 // Outward-oriented icosphere of `radius` (m) centred at the origin (the library's generator).
 inline TriMesh makeIcosphere(double radius, int levels) {

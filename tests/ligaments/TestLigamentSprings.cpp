@@ -16,6 +16,7 @@
 #include "bcassim/mesh/ClosestPoint.h"
 #include "bcassim/mesh/MeshGenerators.h"
 #include "ligaments/LigamentTestData.h"
+#include "support/SharedData.h"
 
 namespace bcassim {
 namespace {
@@ -178,12 +179,11 @@ namespace bcassim {
 namespace {
 
 TEST(LigamentSprings, FalciformSpringsOnCtLiver) {
-  const std::string data = test::ligamentDataDir();
-  if (data.empty()) GTEST_SKIP() << "shared data directory not found (set BCASSIM_DATA)";
-  const std::string base = data + "/livers/LiTS-0";
-  const TriMesh liver = readObj(base + ".obj");
+  SHARED_FILE_OR_SKIP(obj, "livers/LiTS-0.obj");
+  SHARED_FILE_OR_SKIP(eseg, "livers/LiTS-0.eseg");
+  const TriMesh liver = readObj(obj);
   const AttachmentCurve curve =
-      extractAttachmentCurve(liver, readEseg(base + ".eseg", liver), 2, "LiTS-0.eseg");
+      extractAttachmentCurve(liver, readEseg(eseg, liver), 2, "LiTS-0.eseg");
   EXPECT_GT(curve.length, 50.0);  // mm: the falciform attachment spans several centimetres
   SurfaceMeshingOptions meshing;
   meshing.targetNodes = 800;

@@ -16,6 +16,7 @@
 #include "bcassim/mesh/MeshQuality.h"
 #include "bcassim/mesh/MeshValidation.h"
 #include "ligaments/LigamentTestData.h"
+#include "support/SharedData.h"
 
 namespace bcassim {
 namespace {
@@ -167,9 +168,8 @@ TEST(SurfaceMesher, FlippedBandAndLargeHoleAreMeshedFromTheRayVotes) {
 }
 
 TEST(SurfaceMesher, MeshesCoarseCtLiverInMetres) {
-  const std::string data = test::ligamentDataDir();
-  if (data.empty()) GTEST_SKIP() << "shared data directory not found (set BCASSIM_DATA)";
-  const TriMesh liver = readObj(data + "/livers/LiTS-0.obj");
+  SHARED_FILE_OR_SKIP(path, "livers/LiTS-0.obj");
+  const TriMesh liver = readObj(path);
   SurfaceMeshingOptions options;
   options.targetNodes = 800;
   SurfaceMeshingResult result = meshSurface(liver, options, "LiTS-0.obj");
@@ -188,9 +188,8 @@ TEST(SurfaceMesher, MeshesCoarseCtLiverInMetres) {
 // (a border loop of 204 edges, too large to fill). Its ray-vote mesh encloses the volume the rays
 // see and lies on the CT surface.
 TEST(SurfaceMesher, SeamedCtLiverIsMeshedFromTheRayVotes) {
-  const std::string data = test::ligamentDataDir();
-  if (data.empty()) GTEST_SKIP() << "shared data directory not found (set BCASSIM_DATA)";
-  const TriMesh liver = readObj(data + "/livers/3Dircadb-11.obj");
+  SHARED_FILE_OR_SKIP(path, "livers/3Dircadb-11.obj");
+  const TriMesh liver = readObj(path);
   SurfaceMeshingOptions options;
   options.targetNodes = 800;
   const SurfaceMeshingResult result = meshSurface(liver, options, "3Dircadb-11.obj");
@@ -215,7 +214,7 @@ TEST(SurfaceMesher, SeamedCtLiverIsMeshedFromTheRayVotes) {
 // The batch over all livers takes a few minutes: run it with BCASSIM_MESH_ALL=<report.md>.
 TEST(SurfaceMesher, BatchReportOnAllLivers) {
   const char* out = std::getenv("BCASSIM_MESH_ALL");
-  const std::string data = test::ligamentDataDir();
+  const std::string data = test::sharedDataDir();
   if (!out || data.empty()) GTEST_SKIP() << "set BCASSIM_MESH_ALL=<report.md> to run the batch";
   SurfaceMeshingOptions options;
   if (const char* target = std::getenv("BCASSIM_MESH_TARGET"))

@@ -4,7 +4,6 @@
 // data are absent.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -17,6 +16,7 @@
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/scene/SceneLoader.h"
+#include "support/SharedData.h"
 #include "support/TestFiles.h"
 
 namespace bcassim {
@@ -24,17 +24,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// $BCASSIM_DATA (relative to the source tree when relative), else <source>/../shared/data, with
-// the benchmark in it; empty when absent.
-fs::path mestdaghDir() {
-  fs::path dir = fs::path(BCASSIM_SOURCE_DIR) / ".." / "shared" / "data";
-  if (const char* env = std::getenv("BCASSIM_DATA"); env && *env) {
-    dir = env;
-    if (dir.is_relative()) dir = fs::path(BCASSIM_SOURCE_DIR) / dir;
-  }
-  dir /= "mestdagh-liver";
-  return fs::is_directory(dir) ? dir : fs::path();
-}
+// The benchmark's directory under the shared data (support/SharedData.h); empty when absent.
+fs::path mestdaghDir() { return test::sharedPath("mestdagh-liver"); }
 
 // The fixed-vertex list without `skipped` (-1: none) written to dir/name; returns its path.
 fs::path writeFixed(const fs::path& data, const fs::path& dir, const char* name, int skipped) {
