@@ -121,9 +121,11 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::assemble(const MechanicalMod
   Eigen::VectorXd f;
   model.internalForcesAndStiffness(state.t, state.x, f, t->K_);
   t->diagonalNorm_ = t->K_.diagonal().norm();
-  t->A_ = t->K_;
-  if (!isStatic) stiffnessToImplicitEulerMatrix(model, dt, t->A_);
-  SparseMatrix eliminated = t->A_;
+  if (!isStatic) {
+    t->A_ = t->K_;
+    stiffnessToImplicitEulerMatrix(model, dt, t->A_);
+  }
+  SparseMatrix eliminated = t->systemMatrix();
   model.dirichlet.eliminateMatrix(eliminated);
   const auto assembled = Clock::now();
   if (analysis != nullptr && analysis->isAnalyzed() && analysis->matchesPattern(eliminated)) {

@@ -44,7 +44,8 @@ class FrozenTangent {
   // |diag K| (N/m), for the round-off floor of a residual (forceRoundOff).
   double stiffnessDiagonalNorm() const { return diagonalNorm_; }
   // A before Dirichlet elimination: its constrained columns move known values to a right-hand side.
-  const SparseMatrix& systemMatrix() const { return A_; }
+  // A static tangent's is K itself (not stored twice).
+  const SparseMatrix& systemMatrix() const { return static_ ? K_ : A_; }
   // Factor of A with the Dirichlet rows and columns eliminated.
   const CholeskyFactor& factor() const { return *factor_; }
   // Seconds spent building (assembly, factorisation, spring correction), for timings.
@@ -92,7 +93,7 @@ class FrozenTangent {
   double diagonalNorm_ = 0;
   double dt_ = 0, stiffnessScale_ = 0, buildSeconds_ = 0;
   double assemblySeconds_ = 0, factorizationSeconds_ = 0, springSeconds_ = 0;
-  SparseMatrix K_, A_;
+  SparseMatrix K_, A_;  // A_ empty when static_ (A = K)
   std::shared_ptr<CholeskyFactor> factor_;
   std::vector<Mat3> springBlocks_;
   std::vector<int> springRows_;  // the rows of L that W can have non-zero
