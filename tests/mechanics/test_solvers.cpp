@@ -530,6 +530,27 @@ TEST(SolverCholeskyFactor, SupernodalSweepsMatchCholmodInDoubleAndApproximateItI
   EXPECT_LE(relativeError(xSingle, directSolve(A2, b)), 1e-4);
 }
 
+// A released factor's values and float copy serve the next factorisation of its analysis (the
+// spares): the float copy a clone then makes is its own matrix's, not the released one's.
+TEST(SolverCholeskyFactor, AFloatCopyMadeFromTheSparesIsTheNewFactors) {
+  const SparseMatrix A = laplacian3d(12, 0.05);
+  const SparseMatrix A2 = perturb(A, 0.3, 84);
+  const Eigen::VectorXd b = randomVector(A.rows(), 85);
+  const Eigen::VectorXd x1 = directSolve(A, b), x2 = directSolve(A2, b);
+  ASSERT_GT(relativeError(x2, x1), 1e-2);
+  CholeskyFactor::Workspace work;
+  Eigen::VectorXd x;
+  auto first = std::make_shared<CholeskyFactor>();
+  first->factorize(A);
+  first->solveSinglePrecision(b, x, work);
+  EXPECT_LE(relativeError(x, x1), 1e-4);
+  const std::shared_ptr<CholeskyFactor> second = first->cloneAnalysis();
+  first.reset();
+  second->factorize(A2);
+  second->solveSinglePrecision(b, x, work);
+  EXPECT_LE(relativeError(x, x2), 1e-4);
+}
+
 // The sweeps split into subtrees of the elimination tree (Workspace::setThreads): a 16^3
 // Laplacian's tree splits into groups and its top separators are large enough to be cut into
 // pieces too. Every thread count gives the same bits; the result is the serial sweep's to

@@ -397,31 +397,55 @@ struct CholeskyFactor::Symbolic {
   // build thread's 10-25 MB blocks, freed and allocated again, came back as fresh pages from
   // glibc's thread arenas (45 k more page faults in a mestdagh run, builds twice as long;
   // docs/benchmarks.md §6).
+  // Their float copies (SingleCopy) likewise: a tangent built within a frame made its copy in
+  // fresh pages, ~25 ms of page faults in the mestdagh liver's first frame.
   static constexpr size_t kSpareValues = 4;
   mutable std::mutex spareMutex;
   mutable std::vector<std::unique_ptr<double[]>> spareValues;
+  mutable std::vector<std::unique_ptr<float[]>> spareSingles;
   std::unique_ptr<double[]> takeValues() const {
-    {
-      const std::lock_guard<std::mutex> lock(spareMutex);
-      if (!spareValues.empty()) {
-        std::unique_ptr<double[]> values = std::move(spareValues.back());
-        spareValues.pop_back();
-        return values;
-      }
-    }
+    if (std::unique_ptr<double[]> values = takeSpare(spareValues)) return values;
     return std::make_unique<double[]>(L->xsize);
   }
   void giveBack(std::unique_ptr<double[]> values) const {
+    keepSpare(spareValues, std::move(values));
+  }
+  // L's xsize floats, to be overwritten.
+  std::unique_ptr<float[]> takeSingle() const {
+    if (std::unique_ptr<float[]> single = takeSpare(spareSingles)) return single;
+    return std::make_unique_for_overwrite<float[]>(L->xsize);
+  }
+  void giveBack(std::unique_ptr<float[]> single) const {
+    keepSpare(spareSingles, std::move(single));
+  }
+  template <class T>
+  std::unique_ptr<T[]> takeSpare(std::vector<std::unique_ptr<T[]>>& spares) const {
     const std::lock_guard<std::mutex> lock(spareMutex);
-    if (spareValues.size() < kSpareValues) spareValues.push_back(std::move(values));
+    if (spares.empty()) return nullptr;
+    std::unique_ptr<T[]> spare = std::move(spares.back());
+    spares.pop_back();
+    return spare;
+  }
+  template <class T>
+  void keepSpare(std::vector<std::unique_ptr<T[]>>& spares, std::unique_ptr<T[]> array) const {
+    const std::lock_guard<std::mutex> lock(spareMutex);
+    if (spares.size() < kSpareValues) spares.push_back(std::move(array));
   }
   ~Symbolic() { cholmod_free_factor(&L, &common.c); }
 };
 
-// The values of a supernodal L rounded to float, made by the first single-precision solve.
-struct SingleCopy {
+// The values of a supernodal L rounded to float, made by the first single-precision solve, in an
+// array of the analysis' spares (given back when the copy goes).
+struct CholeskyFactor::SingleCopy {
   std::once_flag made;
-  std::vector<float> x;
+  std::unique_ptr<float[]> x;
+  std::shared_ptr<const Symbolic> from;  // where x goes back
+  SingleCopy() = default;
+  SingleCopy(const SingleCopy&) = delete;
+  SingleCopy& operator=(const SingleCopy&) = delete;
+  ~SingleCopy() {
+    if (x && from) from->giveBack(std::move(x));
+  }
 };
 
 struct CholeskyFactor::Numeric {
@@ -643,7 +667,7 @@ void CholeskyFactor::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::Vecto
   if (b.size() != rows()) throw std::invalid_argument("CholeskyFactor::solve: wrong size of b");
   prepareSinglePrecision();
   Workspace::Impl& w = *work.impl_;
-  const float* Lx = numeric_->single->x.data();
+  const float* Lx = numeric_->single->x.get();
   if (w.threads > 0)
     splitSupernodalSolve(*numeric_->L, Lx, subtreeSplit(), *w.arena, b, x, w.yf, w.tf, w.splitF);
   else
@@ -656,7 +680,13 @@ void CholeskyFactor::prepareSinglePrecision() const {
   SingleCopy& single = *numeric_->single;
   std::call_once(single.made, [&] {
     const double* Lx = static_cast<const double*>(L.x);
-    single.x.assign(Lx, Lx + L.xsize);
+    if (L.xsize == symbolic_->L->xsize) {
+      single.x = symbolic_->takeSingle();
+      single.from = symbolic_;
+    } else {
+      single.x = std::make_unique_for_overwrite<float[]>(L.xsize);
+    }
+    std::copy(Lx, Lx + L.xsize, single.x.get());
   });
 }
 
@@ -725,7 +755,7 @@ void CholeskyFactor::solveWithMidCorrection(const Eigen::VectorXd& b, Eigen::Vec
   const cholmod_factor& L = *numeric_->L;
   if (singlePrecision) {
     prepareSinglePrecision();
-    const float* Lx = numeric_->single->x.data();
+    const float* Lx = numeric_->single->x.get();
     // The correction works in double: c is widened, corrected and rounded back.
     const auto midFloat = [&](Eigen::VectorXf& y) {
       w.cd = y.cast<double>();

@@ -108,6 +108,7 @@ class CholeskyFactor {
   const SubtreeSplit& subtreeSplit() const;
   struct Symbolic;
   std::shared_ptr<const Symbolic> symbolic_;
+  struct SingleCopy;
   struct Numeric;
   std::unique_ptr<Numeric> numeric_;
 };
