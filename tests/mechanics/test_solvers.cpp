@@ -551,6 +551,35 @@ TEST(SolverCholeskyFactor, AFloatCopyMadeFromTheSparesIsTheNewFactors) {
   EXPECT_LE(relativeError(x, x2), 1e-4);
 }
 
+// A solver made from another factor's analysis (makeLinearSolver's `analysis`) solves its own
+// matrices of that pattern, and analyses a matrix of another pattern anew.
+TEST(SolverCholmod, StartsFromAnotherFactorsAnalysis) {
+  const SparseMatrix A = laplacian3d(10, 0.05);
+  CholeskyFactor analysed;
+  analysed.factorize(A);
+  for (const char* name : {"cholmod", "factorized-pcg"}) {
+    std::unique_ptr<LinearSolver> solver = makeLinearSolver(name, {}, &analysed);
+    const SparseMatrix A2 = perturb(A, 0.3, 86);
+    solver->analyzePattern(A2);
+    solver->setMatrix(A2);
+    const Eigen::VectorXd b = randomVector(A.rows(), 87);
+    Eigen::VectorXd x;
+    solver->solve(b, x);
+    EXPECT_LE(relativeError(x, directSolve(A2, b)), 1e-9) << name;
+    const SparseMatrix B = laplacian3d(8, 0.1);
+    solver->analyzePattern(B);
+    solver->setMatrix(B);
+    const Eigen::VectorXd c = randomVector(B.rows(), 88);
+    solver->solve(c, x);
+    EXPECT_LE(relativeError(x, directSolve(B, c)), 1e-9) << name;
+  }
+  // The analysed factor itself is untouched.
+  const Eigen::VectorXd b = randomVector(A.rows(), 89);
+  Eigen::VectorXd x;
+  analysed.solve(b, x);
+  EXPECT_LE(relativeError(x, directSolve(A, b)), 1e-12);
+}
+
 // The sweeps split into subtrees of the elimination tree (Workspace::setThreads): a 16^3
 // Laplacian's tree splits into groups and its top separators are large enough to be cut into
 // pieces too. Every thread count gives the same bits; the result is the serial sweep's to

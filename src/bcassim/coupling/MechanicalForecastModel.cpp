@@ -46,8 +46,6 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
       throw std::invalid_argument(
           "MechanicalForecastModel: static frames need a "
           "SharedFactorization (worker 0 solves the mean)");
-    statics_ = std::make_unique<StaticSolver>(
-        model_, makeLinearSolver(options.solver, options.refresh), *options_.statics);
   }
   if (options_.tangentBackgroundSteps > options_.tangentRefreshEvery)
     throw std::invalid_argument(
@@ -58,10 +56,23 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
       throw std::invalid_argument(
           "MechanicalForecastModel: meanTangent needs a SharedFactorization");
     if (worker_ == 0) buildMeanTangent();
-    // Static frames too: their builds have N frames, but a cold one took twice as long (page
-    // faults) and made every other adoption wait on the mestdagh liver.
-    if (worker_ == 0 && options_.tangentInBackground) warmUpBuilder();
   }
+  if (options_.statics) {
+    // Newton's systems have the mean tangent's pattern: its analysis serves them (one
+    // fill-reducing ordering per run instead of one more per worker). Whoever solves in full in the first frame (worker 0 the analysed mean, or every
+    // worker its own sigma points without the mean's tangent) factorises once now: the first
+    // frame's Newton otherwise made the factorisation's plan and first touched its memory,
+    // ~85 ms of the mestdagh liver's ~500 ms first frame.
+    statics_ = std::make_unique<StaticSolver>(
+        model_,
+        makeLinearSolver(options.solver, options.refresh,
+                         shared_->tangent ? &shared_->tangent->factor() : nullptr),
+        *options_.statics);
+    if (worker_ == 0 || !options_.meanTangent) statics_->warmUp(model_, reference_.t, reference_.x);
+  }
+  // Static frames too: their builds have N frames, but a cold one took twice as long (page
+  // faults) and made every other adoption wait on the mestdagh liver.
+  if (options_.meanTangent && worker_ == 0 && options_.tangentInBackground) warmUpBuilder();
 }
 
 // The background builds' thread, started here and made to build three tangents that are thrown
@@ -105,14 +116,17 @@ ForecastStats MechanicalForecastModel::takeStats() {
 }
 
 // The mean's tangent: the implicit-Euler W of a step of dt, or the stiffness K of a static frame;
-// with tangentSinglePrecision its factor's float copy too, made here (on the building thread).
+// its factor's float copy too where the steps solve with it (static frames' chords always,
+// dynamic steps with tangentSinglePrecision), made here, on the building thread, not by the
+// frame that first solves with it.
 std::shared_ptr<const FrozenTangent> MechanicalForecastModel::makeTangent(
     const MechanicalModel& model, const MechanicalState& state, const CholeskyFactor* analysis,
     int threads) const {
-  if (statics_) return FrozenTangent::buildStatic(model, state, analysis, threads);
   std::shared_ptr<const FrozenTangent> built =
-      FrozenTangent::build(model, state, integrator_.options().dt, analysis, threads);
-  if (options_.tangentSinglePrecision) built->factor().prepareSinglePrecision();
+      options_.statics
+          ? FrozenTangent::buildStatic(model, state, analysis, threads)
+          : FrozenTangent::build(model, state, integrator_.options().dt, analysis, threads);
+  if (options_.statics || options_.tangentSinglePrecision) built->factor().prepareSinglePrecision();
   return built;
 }
 
@@ -123,7 +137,7 @@ void MechanicalForecastModel::buildMeanTangent(int threads) {
     adoptTangent(makeTangent(model_, reference_, analysis, threads));
   } catch (const NumericalError&) {
     // Static frames do without (every forecast then solves its own equilibrium).
-    if (!shared_->tangent && !statics_) throw;  // nothing to fall back on
+    if (!shared_->tangent && !options_.statics) throw;  // nothing to fall back on
     ++stats_.tangentFailures;
   }
 }
@@ -392,8 +406,7 @@ bool MechanicalForecastModel::chordMean(double t, Eigen::VectorXd& end) {
 void MechanicalForecastModel::rebuildMeanTangentAt(const MechanicalState& at) {
   discardPendingTangent();
   shared_->stepsSinceTangent = 0;
-  adoptTangent(
-      FrozenTangent::buildStatic(model_, at, &shared_->tangent->factor(), inFrameThreads()));
+  adoptTangent(makeTangent(model_, at, &shared_->tangent->factor(), inFrameThreads()));
 }
 
 void MechanicalForecastModel::forecast(const Eigen::VectorXd& state, const Eigen::VectorXd& params,

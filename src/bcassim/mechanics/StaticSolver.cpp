@@ -83,6 +83,16 @@ void StaticSolver::continueFrom(const MechanicalModel& model, double t) {
   model.externalForces(t, equilibriumLoad_);
 }
 
+void StaticSolver::warmUp(const MechanicalModel& model, double t, const Eigen::VectorXd& x) {
+  Eigen::VectorXd fint;
+  try {
+    model.internalForcesAndStiffness(t, x, fint, K_);
+    model.dirichlet.eliminateMatrix(K_);
+    solver_->setMatrix(K_);
+  } catch (const NumericalError&) {
+  }
+}
+
 StaticReport StaticSolver::solve(const MechanicalModel& model, double t, Eigen::VectorXd& x) {
   StaticReport report;
   Increments run{model, t, x, report};

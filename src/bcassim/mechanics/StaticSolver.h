@@ -51,6 +51,10 @@ class StaticSolver {
   StaticReport solve(const MechanicalModel& model, double t, Eigen::VectorXd& x);
   // The next solve starts from an equilibrium under the loads at time t (a resumed run).
   void continueFrom(const MechanicalModel& model, double t);
+  // Factorises the tangent at x once, computing nothing that is kept: the factorisation's plan
+  // and memory are then made, and the first solve (a filter's first frame) does not pay for them.
+  // A tangent that cannot be factorised is left for that solve to meet.
+  void warmUp(const MechanicalModel& model, double t, const Eigen::VectorXd& x);
   // The next solve starts from an equilibrium under the external forces `load` (N, 3N; empty:
   // none, the rest state), e.g. a filter's forecasts that all start from the analysed mean.
   void continueFromLoad(Eigen::VectorXd load) { equilibriumLoad_ = std::move(load); }

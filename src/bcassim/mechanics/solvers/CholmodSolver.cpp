@@ -6,7 +6,11 @@ namespace bcassim {
 
 CholmodSolver::CholmodSolver() : factor_(std::make_shared<CholeskyFactor>()) {}
 
+CholmodSolver::CholmodSolver(std::shared_ptr<CholeskyFactor> analysed)
+    : factor_(analysed ? std::move(analysed) : std::make_shared<CholeskyFactor>()) {}
+
 void CholmodSolver::analyzePattern(const SparseMatrix& A) {
+  if (factor_->isAnalyzed() && factor_->matchesPattern(A)) return;
   auto factor = std::make_shared<CholeskyFactor>();
   factor->analyzePattern(A);
   factor_ = std::move(factor);

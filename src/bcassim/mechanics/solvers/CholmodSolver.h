@@ -11,6 +11,11 @@ namespace bcassim {
 class CholmodSolver final : public LinearSolver {
  public:
   CholmodSolver();
+  // Starts from `analysed`'s symbolic analysis (CholeskyFactor::cloneAnalysis; null: none), e.g.
+  // another solver's of the same pattern: one fill-reducing ordering instead of two, and the
+  // supernodal plan and spare values of that analysis shared.
+  explicit CholmodSolver(std::shared_ptr<CholeskyFactor> analysed);
+  // Analyses A's pattern, unless the analysis held already matches it.
   void analyzePattern(const SparseMatrix& A) override;
   // Factorises A; throws NumericalError if A is not positive definite.
   void setMatrix(const SparseMatrix& A) override;

@@ -9,8 +9,11 @@
 namespace bcassim {
 
 // policy configures factorized-pcg; its relTol is also the tolerance of cg and jacobi-pcg.
+// `analysis` (optional): a factor whose symbolic analysis the factorising solvers (cholmod,
+// factorized-pcg) start from, for a matrix of its pattern (another is analysed anew).
 // Throws InputError for an unknown name.
 std::unique_ptr<LinearSolver> makeLinearSolver(std::string_view name,
-                                               const RefreshPolicy& policy = {});
+                                               const RefreshPolicy& policy = {},
+                                               const CholeskyFactor* analysis = nullptr);
 
 }  // namespace bcassim
