@@ -59,10 +59,11 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
   }
   if (options_.statics) {
     // Newton's systems have the mean tangent's pattern: its analysis serves them (one
-    // fill-reducing ordering per run instead of one more per worker). Whoever solves in full in the first frame (worker 0 the analysed mean, or every
-    // worker its own sigma points without the mean's tangent) factorises once now: the first
-    // frame's Newton otherwise made the factorisation's plan and first touched its memory,
-    // ~85 ms of the mestdagh liver's ~500 ms first frame.
+    // fill-reducing ordering per run instead of one more per worker). Whoever solves in full in the
+    // first frame (worker 0 the analysed mean, or every worker its own sigma points without the
+    // mean's tangent) factorises once now: the first frame's Newton otherwise made the
+    // factorisation's plan and first touched its memory, ~85 ms of the mestdagh liver's ~500 ms
+    // first frame.
     statics_ = std::make_unique<StaticSolver>(
         model_,
         makeLinearSolver(options.solver, options.refresh,
