@@ -127,8 +127,12 @@ class AssimilateCommand : public Command {
   int run() override {
     if (!mpi_) return runFilter(nullptr, 1);
     const MpiSession session;
-    if (session.rank() > 0) return serveForecasts(session);
-    // Once a rank dies mpirun ends the others: rank 0 then says where the run stood.
+    // Once a rank dies mpirun ends the others: rank 0 then says where the run stood, the workers
+    // give it the time to.
+    if (session.rank() > 0) {
+      installWorkerTerminationGrace(kJobEndedExitCode);
+      return serveForecasts(session);
+    }
     installJobEndNotice(kJobEndedExitCode);
     // Declared before the scene is read: whatever fails on rank 0, its destructor releases the
     // other ranks.
@@ -138,7 +142,7 @@ class AssimilateCommand : public Command {
   }
 
  private:
-  // Exit code of rank 0 when mpirun ends the job under it (a rank died).
+  // Exit code of the ranks mpirun ends when one of them died.
   static constexpr int kJobEndedExitCode = 3;
 
   // The scene with --threads applied; `threads` says what the forecasts run on.

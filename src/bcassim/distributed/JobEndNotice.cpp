@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <ctime>
 
 namespace bcassim {
 namespace {
@@ -27,15 +29,26 @@ void onTerminate(int) {
   ::_exit(endCode);
 }
 
-}  // namespace
+void onWorkerTerminate(int) {
+  timespec left{1, 0};
+  while (::nanosleep(&left, &left) == -1 && errno == EINTR) {
+  }
+  ::_exit(endCode);
+}
 
-void installJobEndNotice(int exitCode) {
+void installHandler(int exitCode, void (*handler)(int)) {
   endCode = exitCode;
   struct sigaction action {};
-  action.sa_handler = onTerminate;
+  action.sa_handler = handler;
   sigemptyset(&action.sa_mask);
   sigaction(SIGTERM, &action, nullptr);
 }
+
+}  // namespace
+
+void installJobEndNotice(int exitCode) { installHandler(exitCode, onTerminate); }
+
+void installWorkerTerminationGrace(int exitCode) { installHandler(exitCode, onWorkerTerminate); }
 
 void setJobEndNotice(const std::string& line) {
   const int next = published.load() == 0 ? 1 : 0;
