@@ -55,30 +55,28 @@ std::string readAll(int fd) {
   return text;
 }
 
+// SIGTERM to the child; its exit code once it has ended (-1 if it did not exit by itself).
+int exitCodeAfterSigterm(const Child& child) {
+  if (child.pid <= 0 || ::kill(child.pid, SIGTERM) != 0) return -1;
+  int status = 0;
+  if (::waitpid(child.pid, &status, 0) != child.pid || !WIFEXITED(status)) return -1;
+  return WEXITSTATUS(status);
+}
+
 TEST(JobEndNotice, SigtermWritesTheLastLineSetAndExitsWithTheCode) {
   const Child child = forkWaiting([] {
     installJobEndNotice(3);
     setJobEndNotice("bcassim: error: first");
     setJobEndNotice("bcassim: error: assimilation step 4: the MPI job was ended");
   });
-  ASSERT_GT(child.pid, 0);
-  ASSERT_EQ(::kill(child.pid, SIGTERM), 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(child.pid, &status, 0), child.pid);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 3);
+  EXPECT_EQ(exitCodeAfterSigterm(child), 3);
   EXPECT_EQ(readAll(child.stderrPipe),
             "bcassim: error: assimilation step 4: the MPI job was ended\n");
 }
 
 TEST(JobEndNotice, BeforeALineIsSetSigtermExitsSilently) {
   const Child child = forkWaiting([] { installJobEndNotice(3); });
-  ASSERT_GT(child.pid, 0);
-  ASSERT_EQ(::kill(child.pid, SIGTERM), 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(child.pid, &status, 0), child.pid);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 3);
+  EXPECT_EQ(exitCodeAfterSigterm(child), 3);
   EXPECT_EQ(readAll(child.stderrPipe), "");
 }
 
