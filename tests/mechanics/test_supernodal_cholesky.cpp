@@ -14,8 +14,9 @@
 namespace bcassim {
 namespace {
 
-// A 25 x 7 x 7-node bar (3,675 unknowns): its nested dissection has groups of subtrees and a top
-// supernode wide enough (> 32 columns) to be cut in pieces. Its stiffness stretched by `stretch`
+// A 25 x 7 x 7-node bar (3,675 unknowns): its nested dissection has groups of subtrees and top
+// supernodes wide enough to be cut in pieces (> 32 columns) and finished in panels (423 columns:
+// four panels of SupernodalCholesky::finishInPanels). Its stiffness stretched by `stretch`
 // along the bar plus `massScale` M.
 SparseMatrix barMatrix(double poissonRatio, double massScale, double stretch = 1.02) {
   MechanicalModel model = testing::boxModel(Vec3(0.24, 0.06, 0.06), 24, 6, 6,
@@ -26,6 +27,20 @@ SparseMatrix barMatrix(double poissonRatio, double massScale, double stretch = 1
   for (Eigen::Index i = 0; i < x.size(); i += 3) x(i) *= stretch;  // not the rest tangent
   model.internalForcesAndStiffness(0.0, x, f, K);
   model.mass.addTo(*model.pattern, massScale, K);
+  return K;
+}
+
+// A 12 x 12 x 12-element cube (6,591 unknowns), stretched along x: four top supernodes of 141 to
+// 666 columns, finished in panels.
+SparseMatrix cubeMatrix() {
+  MechanicalModel model =
+      testing::boxModel(Vec3(0.1, 0.1, 0.1), 12, 12, 12, makeMaterial("neohookean", 5000.0, 0.45));
+  Eigen::VectorXd f;
+  SparseMatrix K;
+  Eigen::VectorXd x = model.restPositions();
+  for (Eigen::Index i = 0; i < x.size(); i += 3) x(i) *= 1.02;
+  model.internalForcesAndStiffness(0.0, x, f, K);
+  model.mass.addTo(*model.pattern, 1e2, K);
   return K;
 }
 
@@ -40,8 +55,8 @@ double relativeGap(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 }
 
 TEST(SupernodalCholesky, SolvesLikeCholmodsFactor) {
-  for (const auto& [nu, mass] : {std::pair{0.3, 1e4}, std::pair{0.49, 1e2}}) {
-    const SparseMatrix A = barMatrix(nu, mass);
+  for (const auto& [nu, mass] : {std::pair{0.3, 1e4}, std::pair{0.49, 1e2}, std::pair{0.0, 0.0}}) {
+    const SparseMatrix A = nu > 0 ? barMatrix(nu, mass) : cubeMatrix();
     const Eigen::VectorXd b = rightHandSide(A.rows());
     CholeskyFactor ours, cholmods;
     ours.factorize(A);
@@ -58,15 +73,19 @@ TEST(SupernodalCholesky, SameBitsOnAnyNumberOfThreads) {
   const SparseMatrix A = barMatrix(0.45, 100.0);
   const Eigen::VectorXd b = rightHandSide(A.rows());
   Eigen::VectorXd first;
-  for (int threads : {1, 2, 3, 1}) {
-    CholeskyFactor factor;
-    factor.factorize(A, threads);
-    Eigen::VectorXd x;
-    factor.solve(b, x);
-    if (first.size() == 0)
-      first = x;
-    else
-      EXPECT_EQ((x - first).cwiseAbs().maxCoeff(), 0.0) << threads << " threads";
+  for (const SparseMatrix& matrix : {cubeMatrix(), A}) {
+    first.resize(0);
+    for (int threads : {1, 2, 3, 1}) {
+      CholeskyFactor factor;
+      factor.factorize(matrix, threads);
+      Eigen::VectorXd x;
+      factor.solve(rightHandSide(matrix.rows()), x);
+      if (first.size() == 0)
+        first = x;
+      else
+        EXPECT_EQ((x - first).cwiseAbs().maxCoeff(), 0.0)
+            << threads << " threads, " << matrix.rows() << " unknowns";
+    }
   }
   // Refactorising the same object (its values written over) gives them again.
   CholeskyFactor again;
@@ -77,10 +96,8 @@ TEST(SupernodalCholesky, SameBitsOnAnyNumberOfThreads) {
   EXPECT_EQ((x - first).cwiseAbs().maxCoeff(), 0.0);
 }
 
-TEST(SupernodalCholesky, NotPositiveDefiniteFailsWithCholmodsMessage) {
-  SparseMatrix A = barMatrix(0.45, 100.0);
-  const Eigen::Index k = A.rows() / 2;
-  A.coeffRef(k, k) = -A.coeffRef(k, k);
+// The messages of a factorisation of A by ours on 2 threads and by CHOLMOD ("" where it succeeds).
+std::pair<std::string, std::string> failures(const SparseMatrix& A) {
   std::string ours, cholmods;
   try {
     CholeskyFactor factor;
@@ -94,6 +111,14 @@ TEST(SupernodalCholesky, NotPositiveDefiniteFailsWithCholmodsMessage) {
   } catch (const NumericalError& e) {
     cholmods = e.what();
   }
+  return {ours, cholmods};
+}
+
+TEST(SupernodalCholesky, NotPositiveDefiniteFailsWithCholmodsMessage) {
+  SparseMatrix A = barMatrix(0.45, 100.0);
+  const Eigen::Index k = A.rows() / 2;
+  A.coeffRef(k, k) = -A.coeffRef(k, k);
+  const auto [ours, cholmods] = failures(A);
   EXPECT_NE(ours.find("Cholesky factorisation: matrix is not positive definite (pivot "),
             std::string::npos)
       << ours;
@@ -108,6 +133,28 @@ TEST(SupernodalCholesky, NotPositiveDefiniteFailsWithCholmodsMessage) {
   const Eigen::VectorXd b = rightHandSide(B.rows());
   factor.solve(b, x);
   EXPECT_LT((B * x - b).norm() / b.norm(), 1e-10);
+}
+
+// The cube shifted just past its smallest eigenvalue (found by inverse iteration): the lowest
+// mode is global, so the first pivot to fail is one of the last separator's, inside a panel.
+TEST(SupernodalCholesky, APivotFailingInsideAPanelIsCholmodsColumn) {
+  const SparseMatrix A = cubeMatrix();
+  CholeskyFactor factor;
+  factor.factorize(A);
+  Eigen::VectorXd v = rightHandSide(A.rows()), w;
+  double lambda = 0;
+  for (int it = 0; it < 60; ++it) {
+    factor.solve(v / v.norm(), w);
+    lambda = v.norm() / w.norm() * (w.dot(v) > 0 ? 1.0 : -1.0);
+    v = w;
+  }
+  ASSERT_GT(lambda, 0);
+  SparseMatrix shift(A.rows(), A.cols());
+  shift.setIdentity();
+  const SparseMatrix shifted = A - 1.001 * lambda * shift;
+  const auto [ours, cholmods] = failures(shifted);
+  EXPECT_NE(ours.find("not positive definite (pivot "), std::string::npos) << ours;
+  EXPECT_EQ(ours, cholmods);
 }
 
 }  // namespace

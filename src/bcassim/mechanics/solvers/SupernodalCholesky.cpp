@@ -166,21 +166,70 @@ std::int64_t SupernodalCholesky::finish(int s, double* Lx) const {
   return -1;
 }
 
-// Supernode s's columns cut into kTopChunks pieces of about equal update work: column j's
-// updates reach its nsrow - j rows at and below the diagonal, so the first columns weigh more.
-std::array<int, SupernodalCholesky::kTopChunks + 1> SupernodalCholesky::chunkColumns(int s) const {
-  const int nscol = super_[s + 1] - super_[s], nsrow = pi_[s + 1] - pi_[s];
+// The pieces [cut[c], cut[c + 1]) of columns from..to-1 of a block with `rows` rows whose
+// updates each reach the rows at and below their diagonal: about equal work each, the first
+// columns weighing more.
+std::array<int, SupernodalCholesky::kTopChunks + 1> SupernodalCholesky::balancedCut(int from,
+                                                                                    int to,
+                                                                                    int rows) {
   double total = 0;
-  for (int j = 0; j < nscol; ++j) total += nsrow - j;
+  for (int j = from; j < to; ++j) total += rows - j;
   std::array<int, kTopChunks + 1> cut{};
+  cut[0] = from;
   double sum = 0;
   int c = 1;
-  for (int j = 0; j < nscol && c < kTopChunks; ++j) {
-    sum += nsrow - j;
+  for (int j = from; j < to && c < kTopChunks; ++j) {
+    sum += rows - j;
     while (c < kTopChunks && sum >= total * c / kTopChunks) cut[static_cast<size_t>(c++)] = j + 1;
   }
-  for (; c <= kTopChunks; ++c) cut[static_cast<size_t>(c)] = nscol;
+  for (; c <= kTopChunks; ++c) cut[static_cast<size_t>(c)] = to;
   return cut;
+}
+
+// finish() for a wide top supernode, in panels of kPanelColumns columns (right-looking): each
+// panel's diagonal block factorised, the rows below it solved against it and the columns right of
+// it updated, both in kTopChunks fixed pieces on the arena's threads (the same bits on any
+// number). The last supernodes hold a dense separator that a single dpotrf would leave to one
+// core.
+std::int64_t SupernodalCholesky::finishInPanels(int s, double* Lx, tbb::task_arena& arena) const {
+  const int first = super_[s], nscol = super_[s + 1] - first, nsrow = pi_[s + 1] - pi_[s];
+  double* block = Lx + px_[s];
+  const double one = 1.0, minusOne = -1.0;
+  for (int j0 = 0; j0 < nscol; j0 += kPanelColumns) {
+    const int width = std::min(kPanelColumns, nscol - j0), end = j0 + width;
+    double* panel = block + static_cast<std::int64_t>(j0) * nsrow;  // column j0, row 0
+    int info = 0;
+    dpotrf_("L", &width, panel + j0, &nsrow, &info);
+    if (info != 0) return first + j0 + info - 1;
+    const int below = nsrow - end;
+    if (below == 0) break;
+    forEachOnArena(arena, kTopChunks, [&](int c) {
+      const int r0 = end + below * c / kTopChunks, r1 = end + below * (c + 1) / kTopChunks;
+      const int count = r1 - r0;
+      if (count > 0)
+        dtrsm_("R", "L", "T", "N", &count, &width, &one, panel + j0, &nsrow, panel + r0, &nsrow);
+    });
+    if (end == nscol) break;
+    const std::array<int, kTopChunks + 1> cut = balancedCut(end, nscol, nsrow);
+    forEachOnArena(arena, kTopChunks, [&](int c) {
+      const int c0 = cut[static_cast<size_t>(c)], count = cut[static_cast<size_t>(c) + 1] - c0;
+      if (count == 0) return;
+      // Columns c0.. minus L[c0.., panel] L[c0..c0+count-1, panel]^T, their lower part.
+      const double* from = panel + c0;
+      double* to = block + static_cast<std::int64_t>(c0) * nsrow + c0;
+      dsyrk_("L", "N", &count, &width, &minusOne, from, &nsrow, &one, to, &nsrow);
+      const int rest = nsrow - c0 - count;
+      if (rest > 0)
+        dgemm_("N", "T", &rest, &count, &width, &minusOne, from + count, &nsrow, from, &nsrow, &one,
+               to + count, &nsrow);
+    });
+  }
+  return -1;
+}
+
+// Supernode s's columns cut into kTopChunks pieces of about equal update work (balancedCut).
+std::array<int, SupernodalCholesky::kTopChunks + 1> SupernodalCholesky::chunkColumns(int s) const {
+  return balancedCut(0, super_[s + 1] - super_[s], pi_[s + 1] - pi_[s]);
 }
 
 std::int64_t SupernodalCholesky::factorize(const SparseMatrix& A, double* Lx,
@@ -227,7 +276,8 @@ std::int64_t SupernodalCholesky::factorize(const SparseMatrix& A, double* Lx,
                         scratch().update);
       });
     }
-    if (const std::int64_t f = finish(s, Lx); f >= 0) return f;
+    const std::int64_t f = nscol >= kPanelColumns ? finishInPanels(s, Lx, arena) : finish(s, Lx);
+    if (f >= 0) return f;
   }
   return -1;
 }

@@ -1,7 +1,8 @@
 // The numeric phase of a supernodal Cholesky factorisation on several threads, written into a
 // CHOLMOD supernodal factor's own layout, so that CHOLMOD's solves and CholeskyFactor's sweeps read
 // it unchanged. Left-looking with BLAS-3 per supernode, as CHOLMOD's; the groups of whole subtrees
-// of the elimination tree run concurrently, the top supernodes above them after.
+// of the elimination tree run concurrently, the top supernodes above them after (their updates in
+// pieces, the widest factorised in panels, both on the threads).
 #pragma once
 #include <tbb/task_arena.h>
 
@@ -27,9 +28,9 @@ class SupernodalCholesky {
   bool matches(const SparseMatrix& A) const;
 
   // L's values for A into Lx (L's xsize entries): the groups on the arena's threads, then the
-  // top on the calling thread. Every supernode sums its updates in one fixed order, so any number
-  // of threads gives the same bits. Returns -1, or the first column (in L's ordering) whose pivot
-  // is not positive; Lx is then not a factor.
+  // top, each supernode's pieces on them. Every supernode sums its updates in one fixed order, so
+  // any number of threads gives the same bits. Returns -1, or the first column (in L's ordering)
+  // whose pivot is not positive; Lx is then not a factor.
   std::int64_t factorize(const SparseMatrix& A, double* Lx, tbb::task_arena& arena) const;
 
  private:
@@ -44,10 +45,13 @@ class SupernodalCholesky {
   };
   static constexpr int kTopChunks = 2;        // a top supernode's columns in this many pieces
   static constexpr int kChunkedColumns = 32;  // when it has at least this many
+  static constexpr int kPanelColumns = 128;   // finishInPanels' panels, for top supernodes as wide
   void assemble(int s, const SparseMatrix& A, double* Lx, std::vector<int>& map) const;
   void subtractUpdates(int s, int c0, int c1, double* Lx, const std::vector<int>& map,
                        std::vector<double>& update) const;
   std::int64_t finish(int s, double* Lx) const;
+  std::int64_t finishInPanels(int s, double* Lx, tbb::task_arena& arena) const;
+  static std::array<int, kTopChunks + 1> balancedCut(int from, int to, int rows);
   std::array<int, kTopChunks + 1> chunkColumns(int s) const;
 
   std::vector<int> super_, pi_, rows_;
