@@ -136,7 +136,8 @@ TEST(SupernodalCholesky, NotPositiveDefiniteFailsWithCholmodsMessage) {
 }
 
 // The cube shifted just past its smallest eigenvalue (found by inverse iteration): the lowest
-// mode is global, so the first pivot to fail is one of the last separator's, inside a panel.
+// mode is global, so the first pivot to fail is one of the last separator's, inside its last panel
+// (column 661 of 666).
 TEST(SupernodalCholesky, APivotFailingInsideAPanelIsCholmodsColumn) {
   const SparseMatrix A = cubeMatrix();
   CholeskyFactor factor;
@@ -144,8 +145,9 @@ TEST(SupernodalCholesky, APivotFailingInsideAPanelIsCholmodsColumn) {
   Eigen::VectorXd v = rightHandSide(A.rows()), w;
   double lambda = 0;
   for (int it = 0; it < 60; ++it) {
-    factor.solve(v / v.norm(), w);
-    lambda = v.norm() / w.norm() * (w.dot(v) > 0 ? 1.0 : -1.0);
+    const Eigen::VectorXd unit = v.normalized();
+    factor.solve(unit, w);  // w = A^-1 unit: |w| -> 1 / lambda_min
+    lambda = (w.dot(unit) > 0 ? 1.0 : -1.0) / w.norm();
     v = w;
   }
   ASSERT_GT(lambda, 0);
