@@ -227,11 +227,6 @@ std::int64_t SupernodalCholesky::finishInPanels(int s, double* Lx, tbb::task_are
   return -1;
 }
 
-// Supernode s's columns cut into kTopChunks pieces of about equal update work (balancedCut).
-std::array<int, SupernodalCholesky::kTopChunks + 1> SupernodalCholesky::chunkColumns(int s) const {
-  return balancedCut(0, super_[s + 1] - super_[s], pi_[s + 1] - pi_[s]);
-}
-
 std::int64_t SupernodalCholesky::factorize(const SparseMatrix& A, double* Lx,
                                            tbb::task_arena& arena) const {
   if (!matches(A)) throw std::invalid_argument("SupernodalCholesky: A has another pattern");
@@ -270,7 +265,8 @@ std::int64_t SupernodalCholesky::factorize(const SparseMatrix& A, double* Lx,
     if (nscol < kChunkedColumns) {
       subtractUpdates(s, 0, nscol, Lx, map, work.update);
     } else {
-      const std::array<int, kTopChunks + 1> cut = chunkColumns(s);
+      // Its columns in pieces of about equal update work.
+      const std::array<int, kTopChunks + 1> cut = balancedCut(0, nscol, pi_[s + 1] - pi_[s]);
       forEachOnArena(arena, kTopChunks, [&](int c) {
         subtractUpdates(s, cut[static_cast<size_t>(c)], cut[static_cast<size_t>(c) + 1], Lx, map,
                         scratch().update);

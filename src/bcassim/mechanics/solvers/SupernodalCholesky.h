@@ -52,7 +52,6 @@ class SupernodalCholesky {
   std::int64_t finish(int s, double* Lx) const;
   std::int64_t finishInPanels(int s, double* Lx, tbb::task_arena& arena) const;
   static std::array<int, kTopChunks + 1> balancedCut(int from, int to, int rows);
-  std::array<int, kTopChunks + 1> chunkColumns(int s) const;
 
   std::vector<int> super_, pi_, rows_;
   std::vector<std::int64_t> px_;
