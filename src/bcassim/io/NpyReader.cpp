@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <array>
 #include <bit>
 #include <cctype>
 #include <cstring>
@@ -21,22 +20,66 @@ namespace {
 
 enum class Kind { Float, Signed, Unsigned, Bool };
 struct Dtype {
-  std::string_view name;
   Kind kind;
   int bytes;
+  bool bigEndian;
 };
-constexpr std::array<Dtype, 11> kDtypes{{{"<f8", Kind::Float, 8},
-                                         {"<f4", Kind::Float, 4},
-                                         {"<i8", Kind::Signed, 8},
-                                         {"<i4", Kind::Signed, 4},
-                                         {"<i2", Kind::Signed, 2},
-                                         {"|i1", Kind::Signed, 1},
-                                         {"<u8", Kind::Unsigned, 8},
-                                         {"<u4", Kind::Unsigned, 4},
-                                         {"<u2", Kind::Unsigned, 2},
-                                         {"|u1", Kind::Unsigned, 1},
-                                         {"|b1", Kind::Bool, 1}}};
-constexpr const char* kDtypeList = "<f8, <f4, <i8, <i4, <i2, |i1, <u8, <u4, <u2, |u1 or |b1";
+constexpr const char* kDtypeList =
+    "a float (f4, f8), integer (i1, i2, i4, i8, u1, u2, u4, u8) or bool (b1) dtype, little- or "
+    "big-endian (e.g. <f8, >i4, |u1)";
+
+// A plain dtype string such as '<f8', '>i4' or '|b1' (NumPy writes '|' for one-byte types).
+std::optional<Dtype> parseDtype(std::string_view descr) {
+  if (descr.size() != 3 || descr[2] < '1' || descr[2] > '8') return std::nullopt;
+  const char order = descr[0], code = descr[1];
+  const int bytes = descr[2] - '0';
+  const bool power = bytes == 1 || bytes == 2 || bytes == 4 || bytes == 8;
+  Dtype d{Kind::Float, bytes, order == '>'};
+  switch (code) {
+    case 'f':
+      if (bytes != 4 && bytes != 8) return std::nullopt;
+      break;
+    case 'i':
+      d.kind = Kind::Signed;
+      if (!power) return std::nullopt;
+      break;
+    case 'u':
+      d.kind = Kind::Unsigned;
+      if (!power) return std::nullopt;
+      break;
+    case 'b':
+      d.kind = Kind::Bool;
+      if (bytes != 1) return std::nullopt;
+      break;
+    default:
+      return std::nullopt;
+  }
+  const bool ordered = order == '<' || order == '>';
+  if (bytes == 1 ? !(ordered || order == '|') : !ordered) return std::nullopt;
+  return d;
+}
+
+// Fortran order (the first index fastest, as np.save writes a transposed array) into C order.
+template <typename T>
+void fortranToC(const std::vector<std::int64_t>& shape, std::vector<T>& values) {
+  if (shape.size() < 2 || values.empty()) return;
+  std::vector<T> c(values.size());
+  std::vector<std::int64_t> index(shape.size(), 0), stride(shape.size(), 1);
+  for (size_t k = 1; k < shape.size(); ++k) stride[k] = stride[k - 1] * shape[k - 1];
+  std::int64_t f = 0;  // the Fortran position of C element `flat`
+  for (size_t flat = 0; flat < c.size(); ++flat) {
+    c[flat] = values[static_cast<size_t>(f)];
+    for (size_t k = shape.size(); k-- > 0;) {  // the next C multi-index, last axis fastest
+      if (++index[k] < shape[k]) {
+        f += stride[k];
+        break;
+      }
+      f -= (shape[k] - 1) * stride[k];
+      index[k] = 0;
+    }
+  }
+  values.swap(c);
+}
 
 // The header: a Python dict literal such as
 // {'descr': '<f8', 'fortran_order': False, 'shape': (500, 3), }
@@ -153,6 +196,12 @@ std::uint64_t littleEndian(const unsigned char* bytes, int count) {
   return v;
 }
 
+std::uint64_t bigEndian(const unsigned char* bytes, int count) {
+  std::uint64_t v = 0;
+  for (int k = 0; k < count; ++k) v = (v << 8) | bytes[k];
+  return v;
+}
+
 }  // namespace
 
 std::string formatNpyShape(const std::vector<std::int64_t>& shape) {
@@ -218,15 +267,10 @@ NpyArray readNpy(const std::string& path) {
                     !header.descr          ? "descr"
                     : !header.fortranOrder ? "fortran_order"
                                            : "shape"));
-  const Dtype* dtype = nullptr;
-  for (const Dtype& d : kDtypes)
-    if (d.name == *header.descr) dtype = &d;
+  const std::optional<Dtype> dtype = parseDtype(*header.descr);
   if (!dtype)
     throw InputError(fmt::format("{}: dtype '{}' not supported; expected {}", path,
                                  io::excerpt(*header.descr), kDtypeList));
-  if (*header.fortranOrder)
-    throw InputError(
-        fmt::format("{}: Fortran-order array; expected C order (fortran_order: False)", path));
 
   NpyArray array;
   array.shape = *header.shape;
@@ -254,7 +298,9 @@ NpyArray readNpy(const std::string& path) {
   array.values.resize(count);
   if (dtype->kind != Kind::Float) array.integers.resize(count);
   for (std::uint64_t k = 0; k < count; ++k) {
-    const std::uint64_t word = littleEndian(raw.data() + k * dtype->bytes, dtype->bytes);
+    const unsigned char* at = raw.data() + k * dtype->bytes;
+    const std::uint64_t word =
+        dtype->bigEndian ? bigEndian(at, dtype->bytes) : littleEndian(at, dtype->bytes);
     switch (dtype->kind) {
       case Kind::Float:
         array.values[k] =
@@ -280,6 +326,10 @@ NpyArray readNpy(const std::string& path) {
         break;
     }
     if (dtype->kind != Kind::Float) array.values[k] = static_cast<double>(array.integers[k]);
+  }
+  if (*header.fortranOrder) {
+    fortranToC(array.shape, array.values);
+    fortranToC(array.shape, array.integers);
   }
   return array;
 }

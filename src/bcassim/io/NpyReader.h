@@ -1,5 +1,5 @@
-// Reading NumPy .npy arrays (format 1.0, 2.0, 3.0; little-endian numbers; C order) with every
-// size checked against the file's length before anything is allocated.
+// Reading NumPy .npy arrays (format 1.0, 2.0, 3.0; either byte order; C or Fortran order) with
+// every size checked against the file's length before anything is allocated.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -16,11 +16,12 @@ struct NpyArray {
   bool isInteger() const { return dtype.size() == 3 && dtype[1] != 'f'; }
 };
 
-// dtypes read: <f8, <f4, <i8, <i4, <i2, |i1, <u8, <u4, <u2, |u1 and |b1 (bool). Throws
-// InputError with one line naming the file and what was expected, e.g. "a.npy: data of 40
-// bytes; expected 48 bytes for shape (2, 3) of <f8": a wrong magic string or version, a
-// truncated or malformed header, another dtype (big-endian, complex, structured, strings), a
-// Fortran-order array, data shorter or longer than the shape says, a <u8 value above 2^63 - 1.
+// dtypes read: f4, f8, i1, i2, i4, i8, u1, u2, u4, u8 and b1 (bool), little- or big-endian
+// ('<', '>'; '|' for one byte). A Fortran-order array (np.save of a transposed array) is returned
+// in C order. Throws InputError with one line naming the file and what was expected, e.g. "a.npy:
+// data of 40 bytes; expected 48 bytes for shape (2, 3) of <f8": a wrong magic string or version,
+// a truncated or malformed header, another dtype (complex, structured, strings, objects), data
+// shorter or longer than the shape says, a u8 value above 2^63 - 1.
 NpyArray readNpy(const std::string& path);
 
 // A shape as NumPy prints it: "(50, 3046, 3)", "(106,)", "()".
