@@ -231,7 +231,7 @@ void expectMissingFile(const std::string& args, const std::string& message) {
 TEST(CommandOptions, MissingInputFileIsOneLineNamingIt) {
   expectMissingFile("assimilate none.yaml", "none.yaml: cannot open file");
   expectMissingFile("validate none.yaml --estimates e.csv", "none.yaml: cannot open file");
-  const char* noSurface = ": no such file (expected a triangle surface .obj/.stl/.vtk/.vtp)";
+  const char* noSurface = ": no such file (expected a triangle surface .obj/.stl/.ply/.vtk/.vtp)";
   expectMissingFile("atlas distance none.obj b.obj", std::string("none.obj") + noSurface);
   expectMissingFile("atlas register none.obj b.obj --out o", std::string("none.obj") + noSurface);
   expectMissingFile("track none.csv", "none.csv: cannot open file");

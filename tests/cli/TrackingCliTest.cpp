@@ -321,7 +321,7 @@ TEST(RegisterCli, BadInputsAreOneLineNamingTheFile) {
   writeText(c.dir / "model.xyz", "1 2 3\n");
   expectError(c.dir, "register model.xyz points.csv",
               "model.xyz: unsupported model format '.xyz'; expected a tet mesh (.vtu, .msh, .vtk) "
-              "or a triangle surface (.obj, .stl, .vtp, .vtk)");
+              "or a triangle surface (.obj, .stl, .ply, .vtp, .vtk)");
   // Too few points for ICP: 5 corners of the box spread over its size (units check passes).
   writeText(c.dir / "few.txt", "0 0 0\n0.1 0 0\n0 0.06 0\n0 0 0.04\n0.1 0.06 0.04\n");
   expectError(c.dir, "register model.vtu few.txt",

@@ -49,7 +49,7 @@ TEST(PointReader, TextFileErrorsNameTheLine) {
   EXPECT_INPUT_ERROR(p + ": no points; expected lines of x y z (m)", readPoints(p));
   p = test::writeText(dir.file("e.xyz"), "1 2 3\n");
   EXPECT_INPUT_ERROR(p + ": unsupported point set format '.xyz'; expected .vtk, .vtu, .vtp, "
-                         ".csv, .txt or .npy",
+                         ".ply, .csv, .txt or .npy",
                      readPoints(p));
 }
 

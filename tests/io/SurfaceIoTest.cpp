@@ -95,8 +95,9 @@ TEST(ObjReader, NanVertex) {
 }
 
 TEST(SurfaceIo, UnknownExtensionAndMissingFile) {
-  EXPECT_INPUT_ERROR("s.ply: unsupported surface format '.ply'; expected .stl, .obj, .vtk or .vtp",
-                     readSurface("s.ply"));
+  EXPECT_INPUT_ERROR(
+      "s.off: unsupported surface format '.off'; expected .stl, .obj, .ply, .vtk or .vtp",
+      readSurface("s.off"));
   TempDir dir;
   EXPECT_INPUT_ERROR(dir.file("no.stl") + ": cannot open file", readSurface(dir.file("no.stl")));
 }

@@ -37,8 +37,8 @@ namespace fs = std::filesystem;
 
 TriMesh readScaled(const std::string& path, double scale) {
   if (!fs::is_regular_file(path)) {
-    throw InputError(
-        fmt::format("{}: no such file (expected a triangle surface .obj/.stl/.vtk/.vtp)", path));
+    throw InputError(fmt::format(
+        "{}: no such file (expected a triangle surface .obj/.stl/.ply/.vtk/.vtp)", path));
   }
   TriMesh m = readSurface(path);
   if (m.F.rows() == 0) throw InputError(fmt::format("{}: expected triangles, found none", path));

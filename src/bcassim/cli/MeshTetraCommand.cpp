@@ -22,7 +22,7 @@ class MeshTetraCommand : public Command {
                 "close is meshed from its ray-vote inside test)") {}
 
   void declare(CLI::App& app) override {
-    app.add_option("surface", path_, "Triangle surface (.obj, .stl, .vtk, .vtp)")->required();
+    app.add_option("surface", path_, "Triangle surface (.obj, .stl, .ply, .vtk, .vtp)")->required();
     addOutOption(app, out_);
     addScaleOption(app, options_.scale);
     checkPositive(app.add_option("--nodes", options_.targetNodes,

@@ -169,7 +169,7 @@ RegistrationModel readRegistrationModel(const std::string& path, double scale) {
     const TetMesh mesh = readTetMesh(path);
     m.surface = toTriMesh(mesh, extractBoundary(mesh));
     m.nodes = mesh.V;
-  } else if (ext == ".obj" || ext == ".stl" || ext == ".vtp" || ext == ".vtk") {
+  } else if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".vtp" || ext == ".vtk") {
     m.surface = readSurface(path);
     if (m.surface.F.rows() == 0)
       throw InputError(path + ": no triangles; expected a closed or partial organ surface");
@@ -177,7 +177,7 @@ RegistrationModel readRegistrationModel(const std::string& path, double scale) {
   } else {
     throw InputError(fmt::format(
         "{}: unsupported model format '{}'; expected a tet mesh (.vtu, .msh, .vtk) or a triangle "
-        "surface (.obj, .stl, .vtp, .vtk)",
+        "surface (.obj, .stl, .ply, .vtp, .vtk)",
         path, ext));
   }
   m.surface.V *= scale;
@@ -285,7 +285,7 @@ class RegisterCommand : public Command {
   void declare(CLI::App& app) override {
     app.add_option("MODEL", model_,
                    "Model: a tet mesh (.vtu, .msh, .vtk), whose boundary is the target, or a "
-                   "triangle surface (.obj, .stl, .vtp, .vtk)")
+                   "triangle surface (.obj, .stl, .ply, .vtp, .vtk)")
         ->required();
     app.add_option("POINTS", points_,
                    "Points in their own frame (m): .csv (x,y,z), .txt (x y z), .npy (N x 3), or "

@@ -14,6 +14,7 @@
 
 #include "bcassim/Error.h"
 #include "bcassim/io/NpyReader.h"
+#include "bcassim/io/PlyReader.h"
 #include "bcassim/io/TextLines.h"
 
 namespace bcassim {
@@ -64,7 +65,7 @@ bool isCloudExtension(const fs::path& p) {
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".txt" || ext == ".csv" || ext == ".npy";
+  return ext == ".txt" || ext == ".csv" || ext == ".npy" || ext == ".ply";
 }
 
 std::vector<std::string> splitFields(const std::string& line, char separator) {
@@ -248,6 +249,14 @@ Eigen::MatrixX3d readNpyCloud(const std::string& path, std::vector<std::string>&
   return points.take(fileName(path), "row", notices);
 }
 
+// A PLY cloud's vertices (an RGB-D sensor's export; colours, normals and faces ignored).
+Eigen::MatrixX3d readPlyCloud(const std::string& path, std::vector<std::string>& notices) {
+  const Eigen::MatrixX3d V = io::readPly(path).V;
+  FinitePoints points;
+  for (Eigen::Index i = 0; i < V.rows(); ++i) points.add(V.row(i).transpose(), static_cast<int>(i));
+  return points.take(fileName(path), "vertex", notices);
+}
+
 }  // namespace
 
 std::vector<std::string> cloudFrameFiles(const std::string& folderOrPattern) {
@@ -269,7 +278,7 @@ std::vector<std::string> cloudFrameFiles(const std::string& folderOrPattern) {
         files.push_back(entry.path().string());
   }
   if (files.empty())
-    throw InputError(folderOrPattern + ": no point cloud file (.txt, .csv or .npy) found");
+    throw InputError(folderOrPattern + ": no point cloud file (.txt, .csv, .npy or .ply) found");
   std::sort(files.begin(), files.end(), [](const std::string& a, const std::string& b) {
     return naturalLess(fs::path(a).filename().string(), fs::path(b).filename().string());
   });
@@ -283,9 +292,10 @@ Eigen::MatrixX3d readCloudFile(const std::string& path, std::vector<std::string>
   if (ext == ".txt") return readTextCloud(path, notices);
   if (ext == ".csv") return readCsvCloud(path, notices);
   if (ext == ".npy") return readNpyCloud(path, notices);
+  if (ext == ".ply") return readPlyCloud(path, notices);
   throw InputError(
-      fmt::format("{}: unsupported point cloud format '{}'; expected .txt, .csv or .npy", path,
-                  io::excerpt(ext)));
+      fmt::format("{}: unsupported point cloud format '{}'; expected .txt, .csv, .npy or .ply",
+                  path, io::excerpt(ext)));
 }
 
 std::vector<CloudFrame> readCloudCsv(const std::string& path, bool& byTime,

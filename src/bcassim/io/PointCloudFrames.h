@@ -16,15 +16,16 @@ struct CloudFrame {
   std::string name;
 };
 
-// The frame files of `folderOrPattern`: every .txt, .csv and .npy file of a folder, or the files
-// whose name matches a pattern with '*' in its last component ("pointclouds/pc*.txt"), in natural
-// name order (pc2 before pc10). Throws InputError when nothing matches.
+// The frame files of `folderOrPattern`: every .txt, .csv, .npy and .ply file of a folder, or the
+// files whose name matches a pattern with '*' in its last component ("pointclouds/pc*.txt"), in
+// natural name order (pc2 before pc10). Throws InputError when nothing matches.
 std::vector<std::string> cloudFrameFiles(const std::string& folderOrPattern);
 
 // The points of one frame file: .txt (x y z per line, '#' comments), .csv (x,y,z columns named
-// in a header, or exactly 3 columns) or .npy ((N, 3) numbers). A point with a coordinate that is
-// not finite is dropped and one line per file is added to `notices` ("pc07.txt: 2 points not
-// finite (line 12 first), dropped"). Throws InputError naming file and line for anything else.
+// in a header, or exactly 3 columns), .npy ((N, 3) numbers) or .ply (the vertices, io/PlyReader). A
+// point with a coordinate that is not finite is dropped and one line per file is added to `notices`
+// ("pc07.txt: 2 points not finite (line 12 first), dropped"). Throws InputError naming file and
+// line for anything else.
 Eigen::MatrixX3d readCloudFile(const std::string& path, std::vector<std::string>& notices);
 
 // Frames of one CSV with columns frame (or time), x, y, z named in a header: rows of equal key

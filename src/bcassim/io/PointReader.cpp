@@ -15,6 +15,7 @@
 #include "bcassim/io/CsvTable.h"
 #include "bcassim/io/Files.h"
 #include "bcassim/io/NpyReader.h"
+#include "bcassim/io/PlyReader.h"
 #include "bcassim/io/TextLines.h"
 #include "bcassim/io/VtkSupport.h"
 
@@ -96,17 +97,25 @@ Eigen::MatrixX3d readNpyPoints(const std::string& path) {
   return V;
 }
 
+Eigen::MatrixX3d readPlyPoints(const std::string& path) {
+  Eigen::MatrixX3d V = io::readPly(path).V;
+  if (V.rows() == 0) throw InputError(fmt::format("{}: no vertices; expected points", path));
+  io::requireFinitePoints(V, path);
+  return V;
+}
+
 }  // namespace
 
 Eigen::MatrixX3d readPoints(const std::string& path) {
   const std::string ext = io::lowerExtension(path);
   if (ext != ".vtk" && ext != ".vtu" && ext != ".vtp" && ext != ".csv" && ext != ".txt" &&
-      ext != ".npy")
+      ext != ".npy" && ext != ".ply")
     throw InputError(
         fmt::format("{}: unsupported point set format '{}'; expected .vtk, .vtu, "
-                    ".vtp, .csv, .txt or .npy",
+                    ".vtp, .ply, .csv, .txt or .npy",
                     path, ext));
   io::requireReadableFile(path);
+  if (ext == ".ply") return readPlyPoints(path);
   if (ext == ".csv") return readCsvPoints(path);
   if (ext == ".txt") return readTextPoints(path);
   if (ext == ".npy") return readNpyPoints(path);

@@ -16,6 +16,7 @@
 #include "bcassim/io/Files.h"
 #include "bcassim/io/LegacyVtkReader.h"
 #include "bcassim/io/ObjFormat.h"
+#include "bcassim/io/PlyReader.h"
 #include "bcassim/io/StlReader.h"
 #include "bcassim/io/TextLines.h"
 #include "bcassim/io/VtkSupport.h"
@@ -104,17 +105,31 @@ void writeVtkSurface(const std::string& path, const TriMesh& mesh, bool binary) 
   if (!ok) throw OutputError(fmt::format("{}: cannot write file", path));
 }
 
+TriMesh readPlySurface(const std::string& path) {
+  io::PlyContents ply = io::readPly(path);
+  if (ply.F.rows() == 0)
+    throw InputError(fmt::format(
+        "{}: no faces ({} vertices); expected a surface (a 'face' element with vertex_indices)",
+        path, ply.V.rows()));
+  io::requireFinitePoints(ply.V, path);
+  TriMesh mesh;
+  mesh.V = std::move(ply.V);
+  mesh.F = std::move(ply.F);
+  return mesh;
+}
+
 }  // namespace
 
 TriMesh readSurface(const std::string& path) {
   const std::string ext = io::lowerExtension(path);
-  if (ext != ".stl" && ext != ".obj" && ext != ".vtk" && ext != ".vtp")
+  if (ext != ".stl" && ext != ".obj" && ext != ".ply" && ext != ".vtk" && ext != ".vtp")
     throw InputError(
-        fmt::format("{}: unsupported surface format '{}'; expected .stl, .obj, .vtk "
+        fmt::format("{}: unsupported surface format '{}'; expected .stl, .obj, .ply, .vtk "
                     "or .vtp",
                     path, ext));
   io::requireReadableFile(path);
   if (ext == ".obj") return readObj(path);
+  if (ext == ".ply") return readPlySurface(path);
   if (ext == ".stl") return io::readStl(path);
   const auto kind = io::VtkDataset::Kind::kPolyData;
   return readPolyData(ext == ".vtp" ? io::readVtkXml(path, kind) : io::readLegacyVtk(path, kind));
