@@ -319,9 +319,10 @@ TEST(RegisterCli, BadInputsAreOneLineNamingTheFile) {
   const RegisterCase c = makeRegisterCase(5.0, Vec3::Zero());
   expectError(c.dir, "register none.vtu points.csv", "none.vtu: cannot open file");
   writeText(c.dir / "model.xyz", "1 2 3\n");
-  expectError(c.dir, "register model.xyz points.csv",
-              "model.xyz: unsupported model format '.xyz'; expected a tet mesh (.vtu, .msh, .vtk) "
-              "or a triangle surface (.obj, .stl, .ply, .vtp, .vtk)");
+  expectError(
+      c.dir, "register model.xyz points.csv",
+      "model.xyz: unsupported model format '.xyz'; expected a tet mesh (.vtu, .msh, .mesh, .vtk) "
+      "or a triangle surface (.obj, .stl, .ply, .vtp, .vtk)");
   // Too few points for ICP: 5 corners of the box spread over its size (units check passes).
   writeText(c.dir / "few.txt", "0 0 0\n0.1 0 0\n0 0.06 0\n0 0 0.04\n0.1 0.06 0.04\n");
   expectError(c.dir, "register model.vtu few.txt",

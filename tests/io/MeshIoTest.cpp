@@ -97,7 +97,7 @@ TEST(MeshReader, MissingFile) {
 
 TEST(MeshReader, UnknownExtension) {
   EXPECT_INPUT_ERROR(
-      "liver.ply: unsupported tetrahedral mesh format '.ply'; expected .vtk, .vtu or .msh",
+      "liver.ply: unsupported tetrahedral mesh format '.ply'; expected .vtk, .vtu, .msh or .mesh",
       readTetMesh("liver.ply"));
 }
 

@@ -18,7 +18,8 @@ class MeshInfoCommand : public Command {
   MeshInfoCommand() : Command({"mesh", "info"}, "Counts, regions, bounding box and quality") {}
 
   void declare(CLI::App& app) override {
-    app.add_option("file", path_, "Tet mesh (.vtk, .vtu, .msh), coordinates in metres")->required();
+    app.add_option("file", path_, "Tet mesh (.vtk, .vtu, .msh, .mesh), coordinates in metres")
+        ->required();
     app.add_option("--region-field", regionField_, "Integer cell array holding the region ids");
   }
 

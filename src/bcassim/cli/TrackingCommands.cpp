@@ -165,7 +165,8 @@ RegistrationModel readRegistrationModel(const std::string& path, double scale) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   RegistrationModel m;
-  if (ext == ".vtu" || ext == ".msh" || (ext == ".vtk" && !isLegacyVtkPolyData(path))) {
+  if (ext == ".vtu" || ext == ".msh" || ext == ".mesh" ||
+      (ext == ".vtk" && !isLegacyVtkPolyData(path))) {
     const TetMesh mesh = readTetMesh(path);
     m.surface = toTriMesh(mesh, extractBoundary(mesh));
     m.nodes = mesh.V;
@@ -175,10 +176,11 @@ RegistrationModel readRegistrationModel(const std::string& path, double scale) {
       throw InputError(path + ": no triangles; expected a closed or partial organ surface");
     m.nodes = m.surface.V;
   } else {
-    throw InputError(fmt::format(
-        "{}: unsupported model format '{}'; expected a tet mesh (.vtu, .msh, .vtk) or a triangle "
-        "surface (.obj, .stl, .ply, .vtp, .vtk)",
-        path, ext));
+    throw InputError(
+        fmt::format("{}: unsupported model format '{}'; expected a tet mesh (.vtu, .msh, .mesh, "
+                    ".vtk) or a triangle "
+                    "surface (.obj, .stl, .ply, .vtp, .vtk)",
+                    path, ext));
   }
   m.surface.V *= scale;
   m.nodes *= scale;
@@ -283,9 +285,10 @@ class RegisterCommand : public Command {
                 "point-to-plane ICP from several starts without") {}
 
   void declare(CLI::App& app) override {
-    app.add_option("MODEL", model_,
-                   "Model: a tet mesh (.vtu, .msh, .vtk), whose boundary is the target, or a "
-                   "triangle surface (.obj, .stl, .ply, .vtp, .vtk)")
+    app.add_option(
+           "MODEL", model_,
+           "Model: a tet mesh (.vtu, .msh, .mesh, .vtk), whose boundary is the target, or a "
+           "triangle surface (.obj, .stl, .ply, .vtp, .vtk)")
         ->required();
     app.add_option("POINTS", points_,
                    "Points in their own frame (m): .csv (x,y,z), .txt (x y z), .npy (N x 3), or "

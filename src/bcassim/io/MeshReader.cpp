@@ -10,6 +10,7 @@
 #include "bcassim/io/Files.h"
 #include "bcassim/io/GmshReader.h"
 #include "bcassim/io/LegacyVtkReader.h"
+#include "bcassim/io/MeditReader.h"
 #include "bcassim/io/TextLines.h"
 #include "bcassim/io/VtkCellTypes.h"
 #include "bcassim/io/VtkXmlReader.h"
@@ -99,15 +100,22 @@ TetMesh tetsOf(io::VtkDataset&& data, const std::string& regionField, MeshOrigin
 
 TetMesh readTetMesh(const std::string& path, const std::string& regionField) {
   const std::string ext = io::lowerExtension(path);
-  if (ext != ".vtk" && ext != ".vtu" && ext != ".msh")
-    throw InputError(
-        fmt::format("{}: unsupported tetrahedral mesh format '{}'; expected .vtk, .vtu or .msh",
-                    path, io::excerpt(ext)));
+  if (ext == ".meshb")
+    throw InputError(fmt::format(
+        "{}: binary Medit files are not supported; expected an ASCII .mesh (e.g. saved by MMG "
+        "or Gmsh as .mesh)",
+        path));
+  if (ext != ".vtk" && ext != ".vtu" && ext != ".msh" && ext != ".mesh")
+    throw InputError(fmt::format(
+        "{}: unsupported tetrahedral mesh format '{}'; expected .vtk, .vtu, .msh or .mesh", path,
+        io::excerpt(ext)));
   io::requireReadableFile(path);
   MeshOrigin origin;
   TetMesh mesh;
   if (ext == ".msh") {
     mesh = readGmshTetMesh(path, &origin);
+  } else if (ext == ".mesh") {
+    mesh = readMeditTetMesh(path, &origin);
   } else {
     const auto grid = io::VtkDataset::Kind::kUnstructuredGrid;
     mesh = tetsOf(ext == ".vtu" ? io::readVtkXml(path, grid) : io::readLegacyVtk(path, grid),
