@@ -1,6 +1,6 @@
 // bcassim.io: the readers and writers of the library (the same validation and one-line errors as
-// the command line): tet meshes (.vtk, .vtu, .msh), surfaces (.stl, .obj, .vtk, .vtp), point sets
-// (.csv, .txt, .npy). Metres unless a file says otherwise.
+// the command line): tet meshes (.vtk, .vtu, .msh, .mesh), surfaces (.stl, .obj, .ply, .vtk, .vtp),
+// point sets (.csv, .txt, .npy, .ply). Metres unless a file says otherwise.
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
@@ -34,10 +34,12 @@ FieldSet pointFieldsFrom(const py::dict& fields) {
 }  // namespace
 
 void bindIo(py::module_& m) {
-  m.def("read_tet_mesh", &readTetMesh, "path"_a, "region_field"_a = "",
-        py::call_guard<py::gil_scoped_release>(),
-        "Reads and validates a tet mesh (.vtk, .vtu, .msh; metres); InputError names the file and "
-        "line");
+  m.def(
+      "read_tet_mesh", &readTetMesh, "path"_a, "region_field"_a = "",
+      py::call_guard<py::gil_scoped_release>(),
+      "Reads and validates a tet mesh (.vtk, .vtu, .msh, .mesh; metres); InputError names the file "
+      "and "
+      "line");
   m.def(
       "write_tet_mesh",
       [](const std::string& path, const TetMesh& mesh, std::optional<Eigen::MatrixX3d> positions,
@@ -56,11 +58,12 @@ void bindIo(py::module_& m) {
       "Writes .vtu or .vtk for ParaView: at `positions` (#V x 3, m; None: rest) with point fields "
       "(dict name -> #V or #V x 3 array, name with its SI unit)");
   m.def("read_surface", &readSurface, "path"_a, py::call_guard<py::gil_scoped_release>(),
-        "Reads a triangle surface (.stl, .obj, .vtk, .vtp), coordinates as stored");
+        "Reads a triangle surface (.stl, .obj, .ply, .vtk, .vtp), coordinates as stored");
   m.def("write_surface", &writeSurface, "path"_a, "mesh"_a,
         py::call_guard<py::gil_scoped_release>(), "Writes .stl, .obj, .vtk or .vtp");
   m.def("read_points", &readPoints, "path"_a, py::call_guard<py::gil_scoped_release>(),
-        "Reads #P x 3 points from .csv (x,y,z columns), .txt (x y z per line) or .npy");
+        "Reads #P x 3 points from .csv (x,y,z columns), .txt (x y z per line), .npy or .ply (its "
+        "vertices)");
 }
 
 }  // namespace bcassim::python
