@@ -180,6 +180,24 @@ TEST(PointCloudScene, ErrorsNameLineAndKey) {
               dir),
       "scene.yaml:10: assimilation.observations.point_cloud.relinearizations: must be >= 0, "
       "got -1");
+  EXPECT_EQ(
+      errorOf(b + kLoad +
+                  assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", voxel_size: -1}\n"),
+              dir),
+      "scene.yaml:10: assimilation.observations.point_cloud.voxel_size: must be >= 0 metres, got "
+      "-1");
+  EXPECT_EQ(errorOf(b + kLoad +
+                        assimilation(kForceX,
+                                     "    point_cloud: {files: \"pc*.txt\", voxel_size: 1e-9}\n"),
+                    dir),
+            "scene.yaml:10: assimilation.observations.point_cloud.voxel_size: 1e-09 m; expected 0 "
+            "(none) or an edge from 1e-6 to 1 m");
+  EXPECT_EQ(
+      errorOf(b + kLoad +
+                  assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", max_points: 5}\n"),
+              dir),
+      "scene.yaml:10: assimilation.observations.point_cloud.max_points: 5; expected at least 8 "
+      "(and at least min_points, 10)");
   EXPECT_EQ(errorOf(b + kLoad +
                         assimilation("    - {force: {load: 0, footprint: tilt_u}, mean: 0, "
                                      "stddev: 1}\n",
@@ -206,6 +224,41 @@ TEST(PointCloudScene, ErrorsNameLineAndKey) {
                     dir),
             "scene.yaml:5: loads[0].total_force: expected either total_force_frames or "
             "total_force, not both");
+}
+
+// A dense frame (an RGB-D sensor's) is averaged on a voxel grid down to max_points, with one
+// notice; a sparse one is kept as read unless voxel_size asks for a grid.
+TEST(PointCloudScene, DenseFramesAreThinnedToMaxPoints) {
+  const fs::path dir = test::freshDir();
+  std::string dense;
+  for (int i = 0; i < 60; ++i)
+    for (int j = 0; j < 20; ++j)
+      dense += std::to_string(0.0005 + 0.0016 * i) + " " + std::to_string(0.0005 + 0.001 * j) +
+               " 0.02\n";
+  writeText(dir / "pc1.txt", dense);
+  writeText(dir / "pc2.txt", twelvePoints());
+  const Scene s = loadSceneFromString(
+      std::string(kStaticBox) + kLoad +
+          assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", max_points: 100}\n"),
+      "scene.yaml", dir.string());
+  const PointCloudSettings& pc = *s.assimilation->observations.pointCloud;
+  EXPECT_EQ(pc.maxPoints, 100);
+  EXPECT_LE(pc.frames[1].rows(), 100);
+  EXPECT_GE(pc.frames[1].rows(), 30);
+  EXPECT_EQ(pc.frames[2].rows(), 12);
+  ASSERT_EQ(s.assimilation->notices.size(), 1u);
+  EXPECT_EQ(s.assimilation->notices[0].rfind("point_cloud: 1 frame averaged on voxel grids of ", 0),
+            0u)
+      << s.assimilation->notices[0];
+  EXPECT_NE(s.assimilation->notices[0].find("(voxel_size 0 m, max_points 100): "),
+            std::string::npos)
+      << s.assimilation->notices[0];
+  const Scene grid = loadSceneFromString(
+      std::string(kStaticBox) + kLoad +
+          assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", voxel_size: 0.01}\n"),
+      "scene.yaml", dir.string());
+  // 1 cm cubes: the dense frame's 9.5 x 2 cm strip in 10 x 2 of them.
+  EXPECT_EQ(grid.assimilation->observations.pointCloud->frames[1].rows(), 20);
 }
 
 TEST(PointCloudScene, BadFramesAreNoticesAndTheOthersAreKept) {

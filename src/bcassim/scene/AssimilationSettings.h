@@ -58,6 +58,11 @@ struct PointCloudSettings {
   double distanceFactor = 3.0;  // -, k of the robust threshold
   double minCutoff = 0.005;     // m, the threshold's floor
   int minPoints = 10;           // a frame with fewer usable points is not used (prediction only)
+  // Each frame averaged on a voxel grid of this edge (m; 0: not), then, where it still has more
+  // than maxPoints, on coarser grids until it has no more (mesh/VoxelGrid): a dense RGB-D frame
+  // costs what a few thousand points cost.
+  double voxelSize = 0.0;
+  int maxPoints = 2000;
   // Analysis passes after the first that find the closest points again on the analysed surface
   // and correct from the same forecasts (FilterOptions::relinearizations; ROUKF, UKF, ETKF).
   int relinearizations = 0;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -12,6 +13,7 @@
 #include "bcassim/io/NpyReader.h"
 #include "bcassim/io/PointCloudFrames.h"
 #include "bcassim/mechanics/FrozenTangent.h"
+#include "bcassim/mesh/VoxelGrid.h"
 #include "bcassim/scene/SceneBuilders.h"
 
 namespace bcassim {
@@ -258,14 +260,44 @@ Eigen::MatrixX3i readTriangles(const std::string& path, Eigen::Index nodes) {
   return F;
 }
 
-// observations.point_cloud: the frames on the scene's steps, the observed surface and the
-// robust threshold. Frames a step cannot use become notices, not errors.
+// point_cloud.max_points' floor: a voxel grid coarser than the whole cloud still leaves 8 cells.
+constexpr int kSmallestMaxPoints = 8;
+
+// Every present frame on point_cloud's voxel grid and under its max_points (mesh/VoxelGrid); one
+// notice says what it did.
+void thinFrames(PointCloudSettings& pc, std::vector<std::string>& notices) {
+  long long thinned = 0, before = 0, after = 0;
+  double finest = 0.0, coarsest = 0.0;
+  for (size_t k = 0; k < pc.frames.size(); ++k) {
+    if (!pc.present[k] || pc.frames[k].rows() == 0) continue;
+    const Eigen::Index n = pc.frames[k].rows();
+    ThinnedPoints t = thinToAtMost(pc.frames[k], pc.maxPoints, pc.voxelSize);
+    if (t.voxel == 0.0) continue;
+    finest = thinned == 0 ? t.voxel : std::min(finest, t.voxel);
+    coarsest = std::max(coarsest, t.voxel);
+    ++thinned;
+    before += n;
+    after += t.points.rows();
+    pc.frames[k] = std::move(t.points);
+  }
+  if (thinned == 0) return;
+  notices.push_back(fmt::format(
+      "point_cloud: {} frame{} averaged on voxel grids of {:.3g}{} mm (voxel_size {:.6g} m, "
+      "max_points {}): {} points a frame on average, from {}",
+      thinned, thinned == 1 ? "" : "s", 1e3 * finest,
+      coarsest > finest ? fmt::format("-{:.3g}", 1e3 * coarsest) : std::string(), pc.voxelSize,
+      pc.maxPoints, after / thinned, before / thinned));
+}
+
+// observations.point_cloud: the frames on the scene's steps (thinned as voxel_size and max_points
+// say), the observed surface and the robust threshold. Frames a step cannot use become notices,
+// not errors.
 PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
                                   const AssimilationContext& c, double timeOffset,
                                   std::vector<std::string>& notices) {
   MapReader r(src, obs.node("point_cloud"), obs.pathOf("point_cloud"),
               {"files", "csv", "first_step", "surface", "residual", "distance_factor",
-               "min_distance", "min_points", "relinearizations"});
+               "min_distance", "min_points", "relinearizations", "voxel_size", "max_points"});
   if (r.has("files") == r.has("csv"))
     failAt(src, r.self(), r.pathOf("files"),
            r.has("files") ? "expected either files or csv, not both"
@@ -278,6 +310,14 @@ PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
   pc.minCutoff = r.number("min_distance", pc.minCutoff, "m", Range::NonNegative);
   pc.minPoints = r.integer("min_points", pc.minPoints, Range::AtLeastOne);
   pc.relinearizations = r.integer("relinearizations", pc.relinearizations, Range::NonNegative);
+  pc.voxelSize = r.number("voxel_size", pc.voxelSize, "m", Range::NonNegative);
+  if (pc.voxelSize > 0 && (pc.voxelSize < 1e-6 || pc.voxelSize > 1.0))
+    r.fail("voxel_size",
+           fmt::format("{:.6g} m; expected 0 (none) or an edge from 1e-6 to 1 m", pc.voxelSize));
+  pc.maxPoints = r.integer("max_points", pc.maxPoints, Range::AtLeastOne);
+  if (pc.maxPoints < std::max(pc.minPoints, kSmallestMaxPoints))
+    r.fail("max_points", fmt::format("{}; expected at least {} (and at least min_points, {})",
+                                     pc.maxPoints, kSmallestMaxPoints, pc.minPoints));
   const int firstStep = r.integer("first_step", 1);
   const auto steps = static_cast<size_t>(c.steps);
   pc.frames.assign(steps + 1, Eigen::MatrixX3d());
@@ -329,6 +369,7 @@ PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
       place(step, std::move(frame));
     }
   }
+  thinFrames(pc, notices);
   int usable = 0;
   for (size_t k = 1; k <= steps; ++k) {
     if (!pc.present[k]) continue;
