@@ -5,6 +5,7 @@
 
 #include <limits>
 #include <random>
+#include <utility>
 
 #include "bcassim/Error.h"
 #include "bcassim/coupling/PointCloudObservation.h"
@@ -139,6 +140,42 @@ TEST(PointCloudObservation, PointsBeyondTheRobustCutoffAreDroppedForTheStep) {
   const Observation none = strict.linearize(d.x, cloudOf(points, 1e-3));
   EXPECT_EQ(strict.lastStats().used, 0);
   for (bool present : none.present) EXPECT_FALSE(present);
+}
+
+// A background as large as the organ's part of the view (a table 1.5 cm under it, 12 points
+// among 24): the median then lies in the gap, and the robust cutoff keeps the table. Only the
+// closest half counted (keep_fraction 0.5), or nothing beyond 1 cm (max_distance), the organ's
+// points alone are used.
+TEST(PointCloudObservation, ABackgroundAsLargeAsTheOrganIsLeftOutByKeepFractionOrMaxDistance) {
+  const Deformed d = bentBox();
+  std::vector<Vec3> points;
+  for (int i = 0; i < 12; ++i) {
+    const Vec3 onTop = bruteForceClosest(d, Vec3(0.01 + 0.0015 * i, 0.015, 0.05));
+    points.push_back(onTop + Vec3(0, 0, 0.0005 * (i % 3)));
+  }
+  for (int i = 0; i < 12; ++i)
+    points.push_back(bruteForceClosest(d, Vec3(0.005 + 0.0025 * i, 0.012, 0.05)) +
+                     Vec3(0, 0, 0.015 + 0.001 * (i % 2)));
+  const auto usedOf = [&](const PointCloudSettings& settings, PointCloudStepStats& stats) {
+    PointCloudObservation op(d.F, d.nodes, settings);
+    const Observation used = op.linearize(d.x, cloudOf(points, 1e-3));
+    stats = op.lastStats();
+    int organ = 0, background = 0;
+    for (size_t i = 0; i < points.size(); ++i)
+      if (used.present[i]) ++(i < 12 ? organ : background);
+    return std::pair{organ, background};
+  };
+  PointCloudStepStats stats;
+  PointCloudSettings settings;                              // k = 3, floor 5 mm
+  EXPECT_EQ(usedOf(settings, stats), (std::pair{12, 12}));  // the median in the gap
+  settings.keepFraction = 0.5;
+  EXPECT_EQ(usedOf(settings, stats), (std::pair{12, 0}));
+  EXPECT_LT(stats.medianDistance, 0.0011);
+  EXPECT_LT(stats.cutoff, 0.0011);  // the last of the closest half
+  settings.keepFraction = 1.0;
+  settings.maxCutoff = 0.01;
+  EXPECT_EQ(usedOf(settings, stats), (std::pair{12, 0}));
+  EXPECT_EQ(stats.cutoff, 0.01);
 }
 
 TEST(PointCloudObservation, RejectsATriangleOutsideTheMesh) {

@@ -192,6 +192,19 @@ TEST(PointCloudScene, ErrorsNameLineAndKey) {
                     dir),
             "scene.yaml:10: assimilation.observations.point_cloud.voxel_size: 1e-09 m; expected 0 "
             "(none) or an edge from 1e-6 to 1 m");
+  EXPECT_EQ(errorOf(b + kLoad +
+                        assimilation(kForceX,
+                                     "    point_cloud: {files: \"pc*.txt\", keep_fraction: 1.5}\n"),
+                    dir),
+            "scene.yaml:10: assimilation.observations.point_cloud.keep_fraction: 1.5; expected a "
+            "fraction in (0, 1] of each frame's points");
+  EXPECT_EQ(
+      errorOf(
+          b + kLoad +
+              assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", max_distance: 0.002}\n"),
+          dir),
+      "scene.yaml:10: assimilation.observations.point_cloud.max_distance: 0.002 m is below "
+      "min_distance (0.005 m); expected at least that");
   EXPECT_EQ(
       errorOf(b + kLoad +
                   assimilation(kForceX, "    point_cloud: {files: \"pc*.txt\", max_points: 5}\n"),

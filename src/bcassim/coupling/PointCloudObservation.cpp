@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <set>
 
 #include "bcassim/Error.h"
@@ -17,6 +19,8 @@ PointCloudObservation::PointCloudObservation(Eigen::MatrixX3i surface, Eigen::In
       residual_(settings.residual),
       distanceFactor_(settings.distanceFactor),
       minCutoff_(settings.minCutoff),
+      maxCutoff_(settings.maxCutoff),
+      keepFraction_(settings.keepFraction),
       minPoints_(settings.minPoints) {
   if (surface_.rows() == 0) throw InputError("point cloud: the observed surface has no triangle");
   if (surface_.minCoeff() < 0 || surface_.maxCoeff() >= nodes_)
@@ -75,14 +79,23 @@ Observation PointCloudObservation::linearize(const Eigen::VectorXd& meanObservab
     seen.push_back(c.distance);
   }
 
-  // Robust cutoff: k times the median distance, never below the floor.
+  // Robust cutoff: k times the median distance of the closest keep_fraction of the points, never
+  // below the floor nor above the ceiling, nor beyond the last of those points (when some are
+  // left out).
   stats_ = {};
   stats_.points = static_cast<int>(seen.size());
+  double lastKept = std::numeric_limits<double>::infinity();
   if (!seen.empty()) {
-    std::nth_element(seen.begin(), seen.begin() + static_cast<long>(seen.size() / 2), seen.end());
-    stats_.medianDistance = seen[seen.size() / 2];
+    const auto kept = std::max<size_t>(
+        1, static_cast<size_t>(std::ceil(keepFraction_ * static_cast<double>(seen.size()) - 1e-9)));
+    std::nth_element(seen.begin(), seen.begin() + static_cast<long>(kept - 1), seen.end());
+    if (kept < seen.size()) lastKept = seen[kept - 1];
+    std::nth_element(seen.begin(), seen.begin() + static_cast<long>(kept / 2),
+                     seen.begin() + static_cast<long>(kept));
+    stats_.medianDistance = seen[kept / 2];
   }
-  stats_.cutoff = std::max(distanceFactor_ * stats_.medianDistance, minCutoff_);
+  stats_.cutoff = std::min(
+      {std::max(distanceFactor_ * stats_.medianDistance, minCutoff_), maxCutoff_, lastKept});
   std::vector<bool> used(static_cast<size_t>(n), false);
   for (int i = 0; i < n; ++i) {
     used[static_cast<size_t>(i)] = present(i) && distance[static_cast<size_t>(i)] <= stats_.cutoff;

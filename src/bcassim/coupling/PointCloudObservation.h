@@ -17,8 +17,11 @@ namespace bcassim {
 struct PointCloudStepStats {
   int points = 0;               // points in the frame
   int used = 0;                 // within the cutoff (0 when fewer than min_points were)
-  double medianDistance = 0.0;  // m, of the frame's points to the mean's surface
-  double cutoff = 0.0;          // m, max(distance_factor x median, min_distance)
+  double medianDistance = 0.0;  // m, of the frame's closest keep_fraction of points to the mean's
+                                // surface
+  // m, max(distance_factor x median, min_distance), at most max_distance and the distance of
+  // the last of the keep_fraction closest points
+  double cutoff = 0.0;
 };
 
 class PointCloudObservation final : public ObservationOperator {
@@ -49,7 +52,7 @@ class PointCloudObservation final : public ObservationOperator {
   Eigen::MatrixX3i surface_;
   Eigen::Index nodes_;
   CloudResidual residual_;
-  double distanceFactor_, minCutoff_;
+  double distanceFactor_, minCutoff_, maxCutoff_, keepFraction_;
   int minPoints_;
   // Fixed by linearize(), per frame point.
   std::vector<int> face_;

@@ -2,6 +2,7 @@
 // which model parameters from which observed tracks, and what truth the result is validated on.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -57,7 +58,14 @@ struct PointCloudSettings {
   CloudResidual residual = CloudResidual::Normal;
   double distanceFactor = 3.0;  // -, k of the robust threshold
   double minCutoff = 0.005;     // m, the threshold's floor
-  int minPoints = 10;           // a frame with fewer usable points is not used (prediction only)
+  // m, the threshold's ceiling (infinity: none): what lies farther is never the organ (a table,
+  // an instrument in view).
+  double maxCutoff = std::numeric_limits<double>::infinity();
+  // Only the closest keepFraction of each frame's points count (0 < f <= 1: the expected share
+  // of organ points in the frame), the median and the threshold taken among them: a background
+  // covering half the view or more would otherwise move the median and keep itself in.
+  double keepFraction = 1.0;
+  int minPoints = 10;  // a frame with fewer usable points is not used (prediction only)
   // Each frame averaged on a voxel grid of this edge (m; 0: not), then, where it still has more
   // than maxPoints, on coarser grids until it has no more (mesh/VoxelGrid): a dense RGB-D frame
   // costs what a few thousand points cost.

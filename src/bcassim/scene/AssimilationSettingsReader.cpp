@@ -297,7 +297,8 @@ PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
                                   std::vector<std::string>& notices) {
   MapReader r(src, obs.node("point_cloud"), obs.pathOf("point_cloud"),
               {"files", "csv", "first_step", "surface", "residual", "distance_factor",
-               "min_distance", "min_points", "relinearizations", "voxel_size", "max_points"});
+               "min_distance", "max_distance", "keep_fraction", "min_points", "relinearizations",
+               "voxel_size", "max_points"});
   if (r.has("files") == r.has("csv"))
     failAt(src, r.self(), r.pathOf("files"),
            r.has("files") ? "expected either files or csv, not both"
@@ -308,6 +309,16 @@ PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
                     : CloudResidual::Point;
   pc.distanceFactor = r.number("distance_factor", pc.distanceFactor, "-", Range::Positive);
   pc.minCutoff = r.number("min_distance", pc.minCutoff, "m", Range::NonNegative);
+  pc.maxCutoff = r.number("max_distance", pc.maxCutoff, "m", Range::Positive, true);
+  if (pc.maxCutoff < pc.minCutoff)
+    r.fail("max_distance", fmt::format("{:.6g} m is below min_distance ({:.6g} m); expected at "
+                                       "least that",
+                                       pc.maxCutoff, pc.minCutoff));
+  pc.keepFraction = r.number("keep_fraction", pc.keepFraction, "-", Range::Positive);
+  if (pc.keepFraction > 1.0)
+    r.fail("keep_fraction",
+           fmt::format("{:.6g}; expected a fraction in (0, 1] of each frame's points",
+                       pc.keepFraction));
   pc.minPoints = r.integer("min_points", pc.minPoints, Range::AtLeastOne);
   pc.relinearizations = r.integer("relinearizations", pc.relinearizations, Range::NonNegative);
   pc.voxelSize = r.number("voxel_size", pc.voxelSize, "m", Range::NonNegative);
