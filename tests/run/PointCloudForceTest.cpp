@@ -459,5 +459,47 @@ TEST(PointCloudForce, AFrameInMillimetresIsLeftOutWithANotice) {
   EXPECT_EQ(line, r.notices[0]);
 }
 
+// A table under the cylinder, with a few more points than the organ's part of the view: the median
+// distance lies on the table, the robust cutoff keeps it, and the run says so once (the first
+// frame). Counting only the closest 40 % of the points (keep_fraction) leaves the table out, the
+// fit is close and nothing is said.
+TEST(PointCloudForce, AFrameTheModelDoesNotFitIsNamedOnce) {
+  const fs::path dir = test::freshDir();
+  constexpr int kSteps = 2;
+  writeTruthCloud(dir, kSteps);
+  std::vector<Vec3> organ;
+  {
+    std::ifstream in(dir / "cloud.txt");
+    for (double x, y, z; in >> x >> y >> z;) organ.emplace_back(x, y, z);
+  }
+  const int tableSide = static_cast<int>(std::ceil(std::sqrt(1.3 * organ.size())));
+  for (int frame = 1; frame <= kSteps; ++frame) {
+    std::ofstream out(dir / ("pc" + std::to_string(frame) + ".txt"));
+    for (const Vec3& p : organ) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+    for (int i = 0; i < tableSide; ++i)  // 3.5 cm under the cylinder's axis, 2 cm under its side
+      for (int j = 0; j < tableSide; ++j)
+        out << -0.03 + 0.06 * i / tableSide << " -0.035 " << 0.18 * (j + 0.5) / tableSide << '\n';
+  }
+  const auto notices = [&](const std::string& extra) {
+    const Scene scene = loadSceneFromString(
+        staticCylinder("[0, 0, 0]", kSteps,
+                       "assimilation:\n"
+                       "  parameters:\n"
+                       "    - {force: {load: 0, component: y}, mean: 0, stddev: 0.05}\n"
+                       "  observations:\n"
+                       "    point_cloud: {files: \"pc*.txt\"" +
+                           extra +
+                           "}\n"
+                           "    sigma: 1.0e-4\n"),
+        "estimation.yaml", dir.string());
+    return runAssimilation(scene, (dir / ("est" + extra.substr(0, 4))).string()).notices;
+  };
+  const std::vector<std::string> kept = notices("");
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].rfind("pc1.txt: step 1 (t = 1 s): its points lie a median ", 0), 0u) << kept[0];
+  EXPECT_NE(kept[0].find("set point_cloud.keep_fraction"), std::string::npos) << kept[0];
+  EXPECT_TRUE(notices(", keep_fraction: 0.4").empty());
+}
+
 }  // namespace
 }  // namespace bcassim

@@ -425,9 +425,15 @@ struct FilterLoopState {
   double sigma(const ObservationSettings& o) const { return noise ? noise->sigma() : o.sigma; }
   // With validation tracks: the forward run with the initial parameters, for comparison.
   std::unique_ptr<ParameterForwardRun> initialRun;
-  std::vector<double> stepMs;  // wall time of each filter step
-  AssimilationResult result;   // the estimate so far, observed steps, tangent failures
+  std::vector<double> stepMs;     // wall time of each filter step
+  AssimilationResult result;      // the estimate so far, observed steps, tangent failures
+  bool cloudMisfitNamed = false;  // a frame the model does not fit has had its notice
 };
+
+// A frame whose points lie a median of more than this many sigmas (and more than min_distance)
+// from the model's surface is not fitted: the first such frame is named (a background in view
+// is the usual cause, and the run would otherwise only show it in filter.csv).
+constexpr double kMisfitSigmas = 5.0;
 
 FilterLoopState newLoopState(const Scene& scene, const fs::path& dir) {
   const AssimilationSettings& s = *scene.assimilation;
@@ -616,6 +622,22 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
       files.notices << line << '\n';
       flushOrThrow(files.notices, files.noticesPath);
       loop.result.notices.push_back(line);
+    } else if (!loop.cloudMisfitNamed) {
+      const PointCloudSettings& pc = *s.observations.pointCloud;
+      if (cloud.medianDistance > std::max(kMisfitSigmas * sigma, pc.minCutoff)) {
+        const std::string line = fmt::format(
+            "{}: step {} (t = {:.6g} s): its points lie a median {:.3g} mm from the model's "
+            "surface, more than {:.0f} sigma and min_distance: the model does not fit them; a "
+            "background in view (a table, an instrument) as large as the organ's part is kept by "
+            "the robust cutoff: set point_cloud.keep_fraction (the organ's share of the view) or "
+            "max_distance (m). Later frames: cloud_median_distance_m in filter.csv",
+            pc.frameNames[static_cast<size_t>(step)], step, time, 1e3 * cloud.medianDistance,
+            kMisfitSigmas);
+        files.notices << line << '\n';
+        flushOrThrow(files.notices, files.noticesPath);
+        loop.result.notices.push_back(line);
+        loop.cloudMisfitNamed = true;
+      }
     }
   }
   files.filter << fmt::format("{},{:.9g},{},{:.6g},{}", step, time, report.observed,
