@@ -427,6 +427,21 @@ TEST(PointCloudForce, AnOffCentreFootprintIsRecoveredWithTheForce) {
 
 // A frame in millimetres for a mesh in metres (tracking's unit check) is left out with one
 // notice; the run goes on with the other frames.
+// The cylinder with a zero force, its y component estimated from dir's pc*.txt frames;
+// `cloudExtra` goes into the point_cloud map (", keep_fraction: 0.4"), `sigma` in m.
+Scene forceFromClouds(const fs::path& dir, int steps, const std::string& cloudExtra,
+                      const std::string& sigma) {
+  return loadSceneFromString(
+      staticCylinder("[0, 0, 0]", steps,
+                     "assimilation:\n"
+                     "  parameters:\n"
+                     "    - {force: {load: 0, component: y}, mean: 0, stddev: 0.05}\n"
+                     "  observations:\n"
+                     "    point_cloud: {files: \"pc*.txt\"" +
+                         cloudExtra + "}\n    sigma: " + sigma + "\n"),
+      "estimation.yaml", dir.string());
+}
+
 TEST(PointCloudForce, AFrameInMillimetresIsLeftOutWithANotice) {
   const fs::path dir = test::freshDir();
   constexpr int kSteps = 3;
@@ -439,16 +454,8 @@ TEST(PointCloudForce, AFrameInMillimetresIsLeftOutWithANotice) {
     for (double x, y, z; in >> x >> y >> z;)
       mm << 1000 * x << ' ' << 1000 * y << ' ' << 1000 * z << '\n';
   }
-  const Scene scene = loadSceneFromString(
-      staticCylinder("[0, 0, 0]", kSteps,
-                     "assimilation:\n"
-                     "  parameters:\n"
-                     "    - {force: {load: 0, component: y}, mean: 0, stddev: 0.05}\n"
-                     "  observations:\n"
-                     "    point_cloud: {files: \"pc*.txt\"}\n"
-                     "    sigma: 1.0e-5\n"),
-      "estimation.yaml", dir.string());
-  const AssimilationResult r = runAssimilation(scene, (dir / "est").string());
+  const AssimilationResult r =
+      runAssimilation(forceFromClouds(dir, kSteps, "", "1.0e-5"), (dir / "est").string());
   EXPECT_EQ(r.observedSteps, 2);
   ASSERT_EQ(r.notices.size(), 1u);
   EXPECT_EQ(r.notices[0].rfind("pc2.txt: ", 0), 0u) << r.notices[0];
@@ -481,18 +488,9 @@ TEST(PointCloudForce, AFrameTheModelDoesNotFitIsNamedOnce) {
         out << -0.03 + 0.06 * i / tableSide << " -0.035 " << 0.18 * (j + 0.5) / tableSide << '\n';
   }
   const auto notices = [&](const std::string& extra) {
-    const Scene scene = loadSceneFromString(
-        staticCylinder("[0, 0, 0]", kSteps,
-                       "assimilation:\n"
-                       "  parameters:\n"
-                       "    - {force: {load: 0, component: y}, mean: 0, stddev: 0.05}\n"
-                       "  observations:\n"
-                       "    point_cloud: {files: \"pc*.txt\"" +
-                           extra +
-                           "}\n"
-                           "    sigma: 1.0e-4\n"),
-        "estimation.yaml", dir.string());
-    return runAssimilation(scene, (dir / ("est" + extra.substr(0, 4))).string()).notices;
+    return runAssimilation(forceFromClouds(dir, kSteps, extra, "1.0e-4"),
+                           (dir / ("est" + extra.substr(0, 4))).string())
+        .notices;
   };
   const std::vector<std::string> kept = notices("");
   ASSERT_EQ(kept.size(), 1u);
