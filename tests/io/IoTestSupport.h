@@ -46,6 +46,36 @@ inline std::string readText(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+// Bytes of a .npy file: magic, version `major`, the header dict padded with blanks to a multiple
+// of 64 and ended by a newline, then `data`.
+inline std::string npyBytes(const std::string& header, const std::string& data, int major = 1) {
+  std::string dict = header;
+  const size_t preamble = major == 1 ? 10 : 12;
+  while ((preamble + dict.size() + 1) % 64 != 0) dict += ' ';
+  dict += '\n';
+  std::string out = std::string("\x93NUMPY", 6) + static_cast<char>(major) + '\0';
+  const size_t n = dict.size();
+  out += static_cast<char>(n & 0xff);
+  out += static_cast<char>((n >> 8) & 0xff);
+  if (major != 1) out += std::string("\0\0", 2);
+  return out + dict + data;
+}
+
+// A C-order array of dtype `descr` ("<f8") and `shape` ("(4, 4)") holding `data`.
+inline std::string npyArray(const std::string& descr, const std::string& shape,
+                            const std::string& data) {
+  return npyBytes("{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape + ", }",
+                  data);
+}
+
+// The bytes of `values` in this machine's (little-endian) order.
+template <class T>
+std::string bytesOf(std::initializer_list<T> values) {
+  std::string s;
+  for (T v : values) s.append(reinterpret_cast<const char*>(&v), sizeof v);
+  return s;
+}
+
 // Unit cube split into 5 positively oriented tets (corner tets in regions 1, centre in 2);
 // vertex i is at (i & 1, (i >> 1) & 1, (i >> 2) & 1).
 inline TetMesh cubeMesh() {

@@ -18,33 +18,15 @@
 namespace bcassim {
 namespace {
 
-// Bytes of a .npy file: magic, version, header padded with blanks to a multiple of 64 and ended
-// by a newline, then `data`.
-std::string npyBytes(const std::string& header, const std::string& data, int major = 1) {
-  std::string dict = header;
-  const size_t preamble = major == 1 ? 10 : 12;
-  while ((preamble + dict.size() + 1) % 64 != 0) dict += ' ';
-  dict += '\n';
-  std::string out = std::string("\x93NUMPY", 6) + static_cast<char>(major) + '\0';
-  const size_t n = dict.size();
-  out += static_cast<char>(n & 0xff);
-  out += static_cast<char>((n >> 8) & 0xff);
-  if (major != 1) out += std::string("\0\0", 2);
-  return out + dict + data;
-}
-
-std::string doubles(std::initializer_list<double> values) {
-  std::string s;
-  for (double v : values) s.append(reinterpret_cast<const char*>(&v), sizeof v);
-  return s;
-}
+using test::bytesOf;
+using test::npyBytes;
 
 TEST(NpyReader, HandWrittenFileReadsExactly) {
   test::TempDir dir;
   const std::string path = test::writeText(
-      dir.file("a.npy"),
-      npyBytes("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3), }",
-               doubles({1.5, -2.0, 0.25, 1e-300, std::numeric_limits<double>::infinity(), 7.0})));
+      dir.file("a.npy"), npyBytes("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3), }",
+                                  bytesOf<double>({1.5, -2.0, 0.25, 1e-300,
+                                                   std::numeric_limits<double>::infinity(), 7.0})));
   const NpyArray a = readNpy(path);
   EXPECT_EQ(a.shape, (std::vector<std::int64_t>{2, 3}));
   EXPECT_EQ(a.dtype, "<f8");
@@ -55,7 +37,7 @@ TEST(NpyReader, HandWrittenFileReadsExactly) {
   // Version 2.0 (4-byte header length), double quotes, no trailing comma.
   const std::string v2 = test::writeText(
       dir.file("b.npy"), npyBytes("{\"descr\": \"<f8\", \"fortran_order\": False, \"shape\": (1,)}",
-                                  doubles({3.0}), 2));
+                                  bytesOf<double>({3.0}), 2));
   EXPECT_EQ(readNpy(v2).values, (std::vector<double>{3.0}));
   EXPECT_EQ(formatNpyShape(readNpy(v2).shape), "(1,)");
   EXPECT_EQ(formatNpyIndex({2, 3, 4}, 23), "(1, 2, 3)");
@@ -69,13 +51,13 @@ TEST(NpyReader, FortranOrderAndBigEndianReadInCOrder) {
   std::string path =
       test::writeText(dir.file("fortran.npy"),
                       npyBytes("{'descr': '<f8', 'fortran_order': True, 'shape': (2, 3), }",
-                               doubles({1, 2, 3, 4, 5, 6})));
+                               bytesOf<double>({1, 2, 3, 4, 5, 6})));
   NpyArray a = readNpy(path);
   EXPECT_EQ(a.shape, (std::vector<std::int64_t>{2, 3}));
   EXPECT_EQ(a.values, (std::vector<double>{1, 3, 5, 2, 4, 6}));
   // Three axes: element (i, j, k) of shape (2, 3, 2) lies at i + 2 j + 6 k in Fortran order.
   std::string data;
-  for (int f = 0; f < 12; ++f) data += doubles({static_cast<double>(f)});
+  for (int f = 0; f < 12; ++f) data += bytesOf<double>({static_cast<double>(f)});
   path = test::writeText(
       dir.file("fortran3.npy"),
       npyBytes("{'descr': '<f8', 'fortran_order': True, 'shape': (2, 3, 2), }", data));
@@ -84,7 +66,7 @@ TEST(NpyReader, FortranOrderAndBigEndianReadInCOrder) {
     for (int j = 0; j < 3; ++j)
       for (int k = 0; k < 2; ++k)
         EXPECT_EQ(a.values[static_cast<size_t>(6 * i + 2 * j + k)], i + 2 * j + 6 * k);
-  std::string big = doubles({-2.5});
+  std::string big = bytesOf<double>({-2.5});
   std::reverse(big.begin(), big.end());
   path =
       test::writeText(dir.file("big.npy"),
@@ -110,7 +92,7 @@ TEST(NpyReader, MalformedFilesAreOneLineErrors) {
   p = write("short.npy", std::string("\x93NUM", 4));
   EXPECT_INPUT_ERROR(p + ": not a .npy file; expected it to start with the magic string \\x93NUMPY",
                      readNpy(p));
-  std::string bytes = npyBytes(f8, doubles({1, 2, 3, 4, 5, 6}));
+  std::string bytes = npyBytes(f8, bytesOf<double>({1, 2, 3, 4, 5, 6}));
   bytes[6] = 4;
   p = write("version.npy", bytes);
   EXPECT_INPUT_ERROR(p + ": .npy format version 4.0; expected 1.0, 2.0 or 3.0", readNpy(p));
@@ -119,15 +101,15 @@ TEST(NpyReader, MalformedFilesAreOneLineErrors) {
   EXPECT_INPUT_ERROR(p + ": header of 118 bytes but the file has 40 bytes; expected a complete "
                          ".npy header",
                      readNpy(p));
-  p = write("truncated.npy", npyBytes(f8, doubles({1, 2, 3, 4, 5})));
+  p = write("truncated.npy", npyBytes(f8, bytesOf<double>({1, 2, 3, 4, 5})));
   EXPECT_INPUT_ERROR(p + ": data of 40 bytes; expected 48 bytes for shape (2, 3) of <f8",
                      readNpy(p));
-  p = write("trailing.npy", npyBytes(f8, doubles({1, 2, 3, 4, 5, 6, 7})));
+  p = write("trailing.npy", npyBytes(f8, bytesOf<double>({1, 2, 3, 4, 5, 6, 7})));
   EXPECT_INPUT_ERROR(p + ": data of 56 bytes; expected 48 bytes for shape (2, 3) of <f8",
                      readNpy(p));
   p = write("huge.npy", npyBytes("{'descr': '<f8', 'fortran_order': False, 'shape': "
                                  "(4294967296, 4294967296), }",
-                                 doubles({1})));
+                                 bytesOf<double>({1})));
   EXPECT_INPUT_ERROR(p + ": data of 8 bytes; expected more than 2^64 bytes for shape "
                          "(4294967296, 4294967296) of <f8",
                      readNpy(p));
@@ -138,16 +120,17 @@ TEST(NpyReader, MalformedFilesAreOneLineErrors) {
     p = write(
         "dtype.npy",
         npyBytes(fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': (1,), }}", descr),
-                 doubles({1})));
+                 bytesOf<double>({1})));
     EXPECT_INPUT_ERROR(p + ": dtype '" + descr + "' not supported; " + dtypes, readNpy(p));
   }
-  p = write(
-      "structured.npy",
-      npyBytes("{'descr': [('x', '<f8')], 'fortran_order': False, 'shape': (1,), }", doubles({1})));
+  p = write("structured.npy",
+            npyBytes("{'descr': [('x', '<f8')], 'fortran_order': False, 'shape': (1,), }",
+                     bytesOf<double>({1})));
   EXPECT_INPUT_ERROR(p + ": malformed .npy header: structured dtype (a list of fields); expected "
                          "a plain dtype such as '<f8'",
                      readNpy(p));
-  p = write("noshape.npy", npyBytes("{'descr': '<f8', 'fortran_order': False, }", doubles({1})));
+  p = write("noshape.npy",
+            npyBytes("{'descr': '<f8', 'fortran_order': False, }", bytesOf<double>({1})));
   EXPECT_INPUT_ERROR(p + ": .npy header without 'shape'; expected the keys 'descr', "
                          "'fortran_order' and 'shape'",
                      readNpy(p));
@@ -162,18 +145,18 @@ TEST(NpyReader, PointsMustBeNByThreeAndFinite) {
   test::TempDir dir;
   std::string p = test::writeText(
       dir.file("p.npy"), npyBytes("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3), }",
-                                  doubles({1, 2, 3, 4, 5, 6})));
+                                  bytesOf<double>({1, 2, 3, 4, 5, 6})));
   Eigen::MatrixX3d expected(2, 3);
   expected << 1, 2, 3, 4, 5, 6;
   EXPECT_EQ(readPoints(p), expected);
   p = test::writeText(dir.file("q.npy"),
                       npyBytes("{'descr': '<f8', 'fortran_order': False, 'shape': (3, 2), }",
-                               doubles({1, 2, 3, 4, 5, 6})));
+                               bytesOf<double>({1, 2, 3, 4, 5, 6})));
   EXPECT_INPUT_ERROR(p + ": array of shape (3, 2); expected (N, 3) points with N >= 1",
                      readPoints(p));
   p = test::writeText(dir.file("r.npy"),
                       npyBytes("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3), }",
-                               doubles({1, 2, 3, 4, std::nan(""), 6})));
+                               bytesOf<double>({1, 2, 3, 4, std::nan(""), 6})));
   EXPECT_INPUT_ERROR(p + ": point 1 has a non-finite coordinate (nan); expected a finite number",
                      readPoints(p));
 }

@@ -11,19 +11,7 @@
 namespace bcassim {
 namespace {
 
-std::string npyBytes(const std::string& descr, const std::string& shape, const std::string& data) {
-  std::string dict = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape + ", }";
-  while ((10 + dict.size() + 1) % 64 != 0) dict += ' ';
-  dict += '\n';
-  return std::string("\x93NUMPY\x01\x00", 8) + static_cast<char>(dict.size()) + '\0' + dict + data;
-}
-
-template <class T>
-std::string bytesOf(std::initializer_list<T> values) {
-  std::string s;
-  for (T v : values) s.append(reinterpret_cast<const char*>(&v), sizeof v);
-  return s;
-}
+using test::bytesOf;
 
 TEST(PointReader, TextFileOfXyzLines) {
   test::TempDir dir;
@@ -63,16 +51,16 @@ TEST(IndexListReader, TextCsvAndNpyGiveTheIdsInOrder) {
   EXPECT_EQ(readIndexList(test::writeText(dir.file("c.csv"), "1929,1947,0,5,5\n")), expected);
   EXPECT_EQ(readIndexList(test::writeText(
                 dir.file("d.npy"),
-                npyBytes("<i8", "(5,)", bytesOf<std::int64_t>({1929, 1947, 0, 5, 5})))),
+                test::npyArray("<i8", "(5,)", bytesOf<std::int64_t>({1929, 1947, 0, 5, 5})))),
             expected);
   EXPECT_EQ(readIndexList(test::writeText(
                 dir.file("e.npy"),
-                npyBytes("<i4", "(5, 1)", bytesOf<std::int32_t>({1929, 1947, 0, 5, 5})))),
+                test::npyArray("<i4", "(5, 1)", bytesOf<std::int32_t>({1929, 1947, 0, 5, 5})))),
             expected);
-  EXPECT_EQ(
-      readIndexList(test::writeText(
-          dir.file("f.npy"), npyBytes("<f8", "(1, 5)", bytesOf<double>({1929, 1947, 0, 5, 5})))),
-      expected);
+  EXPECT_EQ(readIndexList(test::writeText(
+                dir.file("f.npy"),
+                test::npyArray("<f8", "(1, 5)", bytesOf<double>({1929, 1947, 0, 5, 5})))),
+            expected);
 }
 
 TEST(IndexListReader, BadIdsNameTheLineOrEntry) {
@@ -90,17 +78,18 @@ TEST(IndexListReader, BadIdsNameTheLineOrEntry) {
   EXPECT_INPUT_ERROR(p + ": no ids; expected at least one non-negative integer id",
                      readIndexList(p));
   p = test::writeText(dir.file("f.npy"),
-                      npyBytes("<i8", "(3,)", bytesOf<std::int64_t>({4, -7, 1})));
+                      test::npyArray("<i8", "(3,)", bytesOf<std::int64_t>({4, -7, 1})));
   EXPECT_INPUT_ERROR(p + ": entry (1,) is -7; expected a non-negative integer id below 2^31",
                      readIndexList(p));
-  p = test::writeText(dir.file("g.npy"), npyBytes("<f8", "(2, 1)", bytesOf<double>({4, 0.5})));
+  p = test::writeText(dir.file("g.npy"),
+                      test::npyArray("<f8", "(2, 1)", bytesOf<double>({4, 0.5})));
   EXPECT_INPUT_ERROR(p + ": entry (1, 0) is 0.5; expected a non-negative integer id below 2^31",
                      readIndexList(p));
   p = test::writeText(dir.file("h.npy"),
-                      npyBytes("<i8", "(2, 2)", bytesOf<std::int64_t>({1, 2, 3, 4})));
+                      test::npyArray("<i8", "(2, 2)", bytesOf<std::int64_t>({1, 2, 3, 4})));
   EXPECT_INPUT_ERROR(p + ": array of shape (2, 2); expected a list of ids, (N,), (N, 1) or (1, N)",
                      readIndexList(p));
-  p = test::writeText(dir.file("i.npy"), npyBytes("<i8", "(0,)", ""));
+  p = test::writeText(dir.file("i.npy"), test::npyArray("<i8", "(0,)", ""));
   EXPECT_INPUT_ERROR(p + ": no ids; expected at least one non-negative integer id",
                      readIndexList(p));
   p = test::writeText(dir.file("j.json"), "[1, 2]");
