@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 SECONDS_EACH=${FUZZ_SECONDS:-60}
 JOBS=${JOBS:-2}
 [ "$JOBS" -ge 1 ] 2>/dev/null || JOBS=1  # 0 or not a number: one at a time
-TARGETS=${FUZZ_TARGETS:-gmsh medit legacy_vtk vtk_xml obj stl ply csv_table csv_tracks detections_csv eseg npy index_list point_cloud scene_yaml checkpoint igtl_message spring_priors}
+TARGETS=${FUZZ_TARGETS:-gmsh medit legacy_vtk vtk_xml obj stl ply csv_table csv_tracks detections_csv eseg npy index_list rigid_transform point_cloud scene_yaml checkpoint igtl_message spring_priors}
 # FUZZ_RUNS=N: stop each target after N executions instead (FUZZ_SECONDS is then only a cap).
 RUNS=${FUZZ_RUNS:--1}
 
