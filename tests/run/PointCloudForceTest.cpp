@@ -2,8 +2,10 @@
 // cylinder in static mode: the truth is a static solve under a known force, the cloud the
 // centroids of the deformed upper surface's triangles (no correspondences), and the filter starts
 // from a zero force.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +18,7 @@
 #include "bcassim/mechanics/StaticSolver.h"
 #include "bcassim/mechanics/solvers/LinearSolverFactory.h"
 #include "bcassim/mesh/BoundarySurface.h"
+#include "bcassim/mesh/RigidTransform.h"
 #include "bcassim/run/AssimilationRunner.h"
 #include "bcassim/scene/ModelParameter.h"
 #include "bcassim/scene/SceneLoader.h"
@@ -429,8 +432,9 @@ TEST(PointCloudForce, AnOffCentreFootprintIsRecoveredWithTheForce) {
 // notice; the run goes on with the other frames.
 // The cylinder with a zero force, its y component estimated from dir's pc*.txt frames;
 // `cloudExtra` goes into the point_cloud map (", keep_fraction: 0.4"), `sigma` in m.
+// `observationsExtra`: more lines of the observations map.
 Scene forceFromClouds(const fs::path& dir, int steps, const std::string& cloudExtra,
-                      const std::string& sigma) {
+                      const std::string& sigma, const std::string& observationsExtra = "") {
   return loadSceneFromString(
       staticCylinder("[0, 0, 0]", steps,
                      "assimilation:\n"
@@ -438,7 +442,7 @@ Scene forceFromClouds(const fs::path& dir, int steps, const std::string& cloudEx
                      "    - {force: {load: 0, component: y}, mean: 0, stddev: 0.05}\n"
                      "  observations:\n"
                      "    point_cloud: {files: \"pc*.txt\"" +
-                         cloudExtra + "}\n    sigma: " + sigma + "\n"),
+                         cloudExtra + "}\n    sigma: " + sigma + "\n" + observationsExtra),
       "estimation.yaml", dir.string());
 }
 
@@ -496,7 +500,55 @@ TEST(PointCloudForce, AFrameTheModelDoesNotFitIsNamedOnce) {
   ASSERT_EQ(kept.size(), 1u);
   EXPECT_EQ(kept[0].rfind("pc1.txt: step 1 (t = 1 s): its points lie a median ", 0), 0u) << kept[0];
   EXPECT_NE(kept[0].find("set point_cloud.keep_fraction"), std::string::npos) << kept[0];
+  EXPECT_NE(kept[0].find("need observations.frame_transform"), std::string::npos) << kept[0];
   EXPECT_TRUE(notices(", keep_fraction: 0.4").empty());
+}
+
+// The clouds as a camera sees them, 20 degrees turned and 10 cm away, with the camera -> model
+// motion as `bcassim register` writes it (observations.frame_transform): the same estimate as
+// from the clouds in the model's frame, to round-off.
+TEST(PointCloudForce, CloudsInACameraFrameGiveTheSameEstimateThroughFrameTransform) {
+  const fs::path dir = test::freshDir();
+  constexpr int kSteps = 2;
+  writeTruthCloud(dir, kSteps);
+  Eigen::MatrixX3d model;
+  {
+    std::vector<double> v;
+    std::ifstream in(dir / "cloud.txt");
+    for (double c; in >> c;) v.push_back(c);
+    model = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+        v.data(), static_cast<Eigen::Index>(v.size() / 3), 3);
+  }
+  RigidTransform cameraToModel;
+  cameraToModel.rotation =
+      Eigen::AngleAxisd(20 * M_PI / 180, Vec3(0.2, -1, 0.4).normalized()).toRotationMatrix();
+  cameraToModel.translation = Vec3(0.06, 0.02, -0.08);
+  const Eigen::MatrixX3d camera = cameraToModel.inverse().apply(model);
+  fs::create_directories(dir / "camera");
+  std::ofstream matrix(dir / "camera" / "transform.csv");
+  for (int r = 0; r < 3; ++r)
+    matrix << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g}\n", cameraToModel.rotation(r, 0),
+                          cameraToModel.rotation(r, 1), cameraToModel.rotation(r, 2),
+                          cameraToModel.translation(r));
+  matrix << "0,0,0,1\n";
+  matrix.close();
+  for (int frame = 1; frame <= kSteps; ++frame) {
+    const std::string name = "pc" + std::to_string(frame) + ".txt";
+    fs::copy_file(dir / "cloud.txt", dir / name);
+    std::ofstream out(dir / "camera" / name);
+    for (Eigen::Index i = 0; i < camera.rows(); ++i)
+      out << fmt::format("{:.17g} {:.17g} {:.17g}\n", camera(i, 0), camera(i, 1), camera(i, 2));
+  }
+  const AssimilationResult inModel =
+      runAssimilation(forceFromClouds(dir, kSteps, "", "1.0e-5"), (dir / "model").string());
+  const AssimilationResult inCamera = runAssimilation(
+      forceFromClouds(dir / "camera", kSteps, "", "1.0e-5", "    frame_transform: transform.csv\n"),
+      (dir / "camera-run").string());
+  ASSERT_EQ(inCamera.parameters.size(), 1u);
+  EXPECT_LT(inModel.parameters[0].mean, -0.01);  // N: the truth's -0.04 seen
+  EXPECT_NEAR(inCamera.parameters[0].mean, inModel.parameters[0].mean,
+              1e-9 * std::abs(inModel.parameters[0].mean));
+  EXPECT_TRUE(inCamera.notices.empty());
 }
 
 }  // namespace

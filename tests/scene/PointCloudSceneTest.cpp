@@ -1,14 +1,17 @@
 // The scene keys of issue 14 (observations.point_cloud, force parameters with a random walk,
 // static assimilation, loads given frame by frame, control points from tracks): their errors name
 // line and key, and bad frames become one notice each while the run keeps what it can use.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "bcassim/Error.h"
+#include "bcassim/mesh/RigidTransform.h"
 #include "bcassim/scene/ModelParameter.h"
 #include "bcassim/scene/SceneLoader.h"
 #include "support/TestFiles.h"
@@ -272,6 +275,71 @@ TEST(PointCloudScene, DenseFramesAreThinnedToMaxPoints) {
       "scene.yaml", dir.string());
   // 1 cm cubes: the dense frame's 9.5 x 2 cm strip in 10 x 2 of them.
   EXPECT_EQ(grid.assimilation->observations.pointCloud->frames[1].rows(), 20);
+}
+
+// Observations in a camera's frame: observations.frame_transform (as `bcassim register` writes
+// it, camera -> model) moves every cloud point and tracked marker into the model's frame as they
+// are read; markers not seen stay not seen.
+TEST(PointCloudScene, FrameTransformMovesTheObservationsIntoTheModelsFrame) {
+  const fs::path dir = test::freshDir();
+  RigidTransform cameraToModel;
+  cameraToModel.rotation = Eigen::AngleAxisd(0.6, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  cameraToModel.translation = Vec3(0.1, -0.05, 0.2);
+  std::string matrix;
+  for (int r = 0; r < 4; ++r) {
+    const Eigen::RowVector4d row =
+        r < 3 ? Eigen::RowVector4d(cameraToModel.rotation(r, 0), cameraToModel.rotation(r, 1),
+                                   cameraToModel.rotation(r, 2), cameraToModel.translation(r))
+              : Eigen::RowVector4d(0, 0, 0, 1);
+    matrix += fmt::format("{:.17g},{:.17g},{:.17g},{:.17g}\n", row(0), row(1), row(2), row(3));
+  }
+  writeText(dir / "T.csv", matrix);
+  Eigen::MatrixX3d model(12, 3);
+  for (int i = 0; i < 12; ++i) model.row(i) = Vec3(0.005 + 0.007 * i, 0.01, 0.02);
+  const Eigen::MatrixX3d camera = cameraToModel.inverse().apply(model);
+  std::string frame;
+  for (Eigen::Index i = 0; i < camera.rows(); ++i)
+    frame += fmt::format("{:.17g} {:.17g} {:.17g}\n", camera(i, 0), camera(i, 1), camera(i, 2));
+  for (int k = 1; k <= 4; ++k) writeText(dir / ("pc" + std::to_string(k) + ".txt"), frame);
+  const Scene s = loadSceneFromString(
+      std::string(kStaticBox) + kLoad +
+          assimilation(kForceX, std::string(kCloud) + "    frame_transform: T.csv\n"),
+      "scene.yaml", dir.string());
+  const PointCloudSettings& pc = *s.assimilation->observations.pointCloud;
+  for (int k = 1; k <= 4; ++k) EXPECT_LT((pc.frames[k] - model).cwiseAbs().maxCoeff(), 1e-15);
+
+  // Two markers; the second is not seen at t = 1 s.
+  writeText(dir / "tracks.csv",
+            fmt::format("time,marker,x,y,z\n1,0,{:.17g},{:.17g},{:.17g}\n2,0,{:.17g},{:.17g},"
+                        "{:.17g}\n2,1,{:.17g},{:.17g},{:.17g}\n",
+                        camera(0, 0), camera(0, 1), camera(0, 2), camera(1, 0), camera(1, 1),
+                        camera(1, 2), camera(2, 0), camera(2, 1), camera(2, 2)));
+  const Scene t = loadSceneFromString(
+      std::string(kStaticBox) + kLoad +
+          "markers: [{points: [[0.005, 0.01, 0.02], [0.012, 0.01, 0.02]]}]\n" +
+          assimilation(kForceX, "    tracks: tracks.csv\n    frame_transform: T.csv\n"),
+      "scene.yaml", dir.string());
+  const TrackFrames& tracks = t.assimilation->observations.tracks;
+  EXPECT_LT((tracks.frames[1].row(0) - model.row(0)).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_TRUE(tracks.frames[1].row(1).hasNaN());
+  EXPECT_LT((tracks.frames[2].topRows(2) - model.middleRows(1, 2)).cwiseAbs().maxCoeff(), 1e-15);
+  ASSERT_TRUE(t.assimilation->observations.frameTransform);  // for streamed markers (serve)
+
+  // What is not a rigid motion in metres is refused, naming the scene's key and the file.
+  writeText(dir / "mm.txt", "0.001 0 0 0\n0 0.001 0 0\n0 0 0.001 0\n0 0 0 1\n");
+  EXPECT_EQ(
+      errorOf(std::string(kStaticBox) + kLoad +
+                  assimilation(kForceX, std::string(kCloud) + "    frame_transform: mm.txt\n"),
+              dir),
+      "scene.yaml:11: assimilation.observations.frame_transform: " + (dir / "mm.txt").string() +
+          ": the upper-left 3 x 3 scales lengths by 0.001, not a rotation (a change of "
+          "units?); expected a rigid transform in metres");
+  EXPECT_EQ(
+      errorOf(std::string(kStaticBox) + kLoad +
+                  assimilation(kForceX, std::string(kCloud) + "    frame_transform: none.csv\n"),
+              dir)
+          .rfind("scene.yaml:11: assimilation.observations.frame_transform: ", 0),
+      0u);
 }
 
 TEST(PointCloudScene, BadFramesAreNoticesAndTheOthersAreKept) {

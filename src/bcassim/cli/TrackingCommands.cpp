@@ -291,8 +291,9 @@ class RegisterCommand : public Command {
            "triangle surface (.obj, .stl, .ply, .vtp, .vtk)")
         ->required();
     app.add_option("POINTS", points_,
-                   "Points in their own frame (m): .csv (x,y,z), .txt (x y z), .npy (N x 3), or "
-                   "one frame of a tracks CSV (time,marker,x,y,z; --time)")
+                   "Points in their own frame (m): .csv (x,y,z), .txt (x y z), .npy (N x 3), "
+                   ".ply (an RGB-D export's vertices), .vtp/.vtu/.vtk (their points), or one "
+                   "frame of a tracks CSV (time,marker,x,y,z; --time)")
         ->required();
     addOutOption(app, out_);
     addScaleOption(app, scale_);
@@ -398,7 +399,7 @@ class RegisterCommand : public Command {
                transform.translation.norm());
     fmt::print(
         "wrote {}/transform.csv and transform.txt (4 x 4, points' frame -> model frame, "
-        "m), {}\n",
+        "m; a scene's observations.frame_transform), {}\n",
         out.string(), movedPath);
     return 0;
   }

@@ -38,6 +38,9 @@ std::optional<IntakeFrame> FrameIntake::next(long done) {
     IntakeFrame out;
     try {
       out.markers = markersFromPoints(f->points, static_cast<int>(scene_.markers.points.size()));
+      // Into the model's frame (observations.frame_transform); markers not sent stay NaN.
+      if (scene_.assimilation && scene_.assimilation->observations.frameTransform)
+        out.markers = scene_.assimilation->observations.frameTransform->apply(out.markers);
     } catch (const InputError& e) {
       log_(fmt::format("client {}: frame '{}' at {:.6f} s: {}; frame skipped", f->client, f->device,
                        f->time, e.what()));

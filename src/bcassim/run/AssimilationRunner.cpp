@@ -630,9 +630,13 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
             "surface, more than {:.0f} sigma and min_distance: the model does not fit them; a "
             "background in view (a table, an instrument) as large as the organ's part is kept by "
             "the robust cutoff: set point_cloud.keep_fraction (the organ's share of the view) or "
-            "max_distance (m). Later frames: cloud_median_distance_m in filter.csv",
+            "max_distance (m){}. Later frames: cloud_median_distance_m in filter.csv",
             pc.frameNames[static_cast<size_t>(step)], step, time, 1e3 * cloud.medianDistance,
-            kMisfitSigmas);
+            kMisfitSigmas,
+            s.observations.frameTransform
+                ? ""
+                : "; points in another frame (a camera's) need observations.frame_transform "
+                  "(`bcassim register`'s transform.csv)");
         files.notices << line << '\n';
         flushOrThrow(files.notices, files.noticesPath);
         loop.result.notices.push_back(line);

@@ -10,6 +10,7 @@
 #include "bcassim/assimilation/ParameterTransform.h"
 #include "bcassim/assimilation/SigmaPointSet.h"
 #include "bcassim/io/CsvTracks.h"
+#include "bcassim/mesh/RigidTransform.h"
 #include "bcassim/scene/ModelParameter.h"
 
 namespace bcassim {
@@ -97,6 +98,10 @@ struct ObservationSettings {
   bool streamed = false;
   // adaptive_noise: sigma re-estimated every step from the innovations; none: sigma is fixed.
   std::optional<AdaptiveNoiseSettings> adaptiveNoise;
+  // frame_transform: the rigid motion from the observations' frame (a camera's, a tracker's) to
+  // the model's, e.g. `bcassim register`'s transform.csv. The tracks and cloud frames above are
+  // already moved by it; streamed markers are moved as they come. None: the model's frame.
+  std::optional<RigidTransform> frameTransform;
 };
 
 struct AssimilationSettings {

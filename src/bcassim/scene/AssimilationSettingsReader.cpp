@@ -12,6 +12,7 @@
 #include "bcassim/io/IndexListReader.h"
 #include "bcassim/io/NpyReader.h"
 #include "bcassim/io/PointCloudFrames.h"
+#include "bcassim/io/RigidTransformReader.h"
 #include "bcassim/mechanics/FrozenTangent.h"
 #include "bcassim/mesh/VoxelGrid.h"
 #include "bcassim/scene/SceneBuilders.h"
@@ -294,6 +295,7 @@ void thinFrames(PointCloudSettings& pc, std::vector<std::string>& notices) {
 // not errors.
 PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
                                   const AssimilationContext& c, double timeOffset,
+                                  const std::optional<RigidTransform>& toModel,
                                   std::vector<std::string>& notices) {
   MapReader r(src, obs.node("point_cloud"), obs.pathOf("point_cloud"),
               {"files", "csv", "first_step", "surface", "residual", "distance_factor",
@@ -380,6 +382,10 @@ PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
       place(step, std::move(frame));
     }
   }
+  // Into the model's frame before the voxel grids, which are anchored at its origin.
+  if (toModel)
+    for (size_t k = 0; k < pc.frames.size(); ++k)
+      if (pc.present[k] && pc.frames[k].rows() > 0) pc.frames[k] = toModel->apply(pc.frames[k]);
   thinFrames(pc, notices);
   int usable = 0;
   for (size_t k = 1; k <= steps; ++k) {
@@ -518,7 +524,7 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
            "missing (tracks of the observed markers, or a point_cloud)");
   MapReader obs(src, r.node("observations"), r.pathOf("observations"),
                 {"tracks", "point_cloud", "noise_stddev", "sigma", "adaptive_noise", "until_step",
-                 "time_offset", "model_error"});
+                 "time_offset", "model_error", "frame_transform"});
   if (obs.has("tracks") == obs.has("point_cloud"))
     failAt(src, obs.self(), obs.pathOf("tracks"),
            obs.has("tracks") ? "expected either tracks or point_cloud, not both"
@@ -542,6 +548,11 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
   s.observations.untilStep = obs.integer("until_step", c.steps);
   s.observations.modelErrorGrows =
       obs.choice("model_error", "grows", {"grows", "constant"}) == "grows";
+  if (obs.has("frame_transform")) {
+    const std::string file = obs.existingFile("frame_transform");
+    withContext(src, obs.node("frame_transform"), obs.pathOf("frame_transform"),
+                [&] { s.observations.frameTransform = readRigidTransform(file); });
+  }
   if (obs.has("tracks")) {
     if (c.markers == 0)
       obs.fail("tracks", "the scene has no markers; add a markers: section (the observed points)");
@@ -556,9 +567,13 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
     } else {
       s.observations.tracks =
           readFrames(src, obs, "tracks", c.markers, "markers", c, s.observations.timeOffset);
+      if (s.observations.frameTransform)
+        for (Eigen::MatrixX3d& frame : s.observations.tracks.frames)
+          frame = s.observations.frameTransform->apply(frame);  // NaN rows (not seen) stay NaN
     }
   } else {
-    s.observations.pointCloud = readPointCloud(src, obs, c, s.observations.timeOffset, s.notices);
+    s.observations.pointCloud = readPointCloud(src, obs, c, s.observations.timeOffset,
+                                               s.observations.frameTransform, s.notices);
   }
 
   MapReader val(src, r.node("validation"), r.pathOf("validation"), {"tracks"});
