@@ -113,6 +113,53 @@ TEST(PointCloudScene, ForceParametersAndStaticAssimilationAreRead) {
   EXPECT_EQ(fp[1].name, "concentration_0");
 }
 
+// The observations' pose: rotations in rad, translations in m, named pose_<coordinate>; each
+// coordinate once; it leaves the mechanics as they are.
+TEST(PointCloudScene, PoseParametersAreReadInRadiansAndMetres) {
+  const fs::path dir = cloudDir();
+  Scene s = loadSceneFromString(
+      std::string(kStaticBox) + kLoad +
+          assimilation(std::string(kForceX) + "    - {pose: rz, mean: 0, stddev: 0.05}\n"
+                                              "    - {pose: ty, mean: 0.001, stddev: 0.005}\n",
+                       kCloud),
+      "scene.yaml", dir.string());
+  const auto& p = s.assimilation->parameters;
+  ASSERT_EQ(p.size(), 3u);
+  EXPECT_EQ(p[1].name, "pose_rz");
+  EXPECT_EQ(std::get<ObservationPoseTarget>(p[1].target).component, 2);
+  EXPECT_EQ(p[2].name, "pose_ty");
+  EXPECT_EQ(std::get<ObservationPoseTarget>(p[2].target).component, 4);
+  const Eigen::VectorXd before = s.model.restPositions();
+  applyParameter(p[1].target, 0.3, s.model);
+  EXPECT_EQ(readParameter(p[1].target, s.model), 0.0);
+  EXPECT_EQ(s.model.restPositions(), before);
+  EXPECT_EQ(errorOf(std::string(kStaticBox) + kLoad +
+                        assimilation("    - {pose: tx, mean: 0, stddev: 1}\n"
+                                     "    - {pose: tx, name: again, mean: 0, stddev: 1}\n",
+                                     kCloud),
+                    dir),
+            "scene.yaml:9: assimilation.parameters[1].pose: pose_tx is estimated twice; expected "
+            "each pose coordinate once");
+  EXPECT_EQ(errorOf(std::string(kStaticBox) + kLoad +
+                        assimilation("    - {pose: x, mean: 0, stddev: 1}\n", kCloud),
+                    dir),
+            "scene.yaml:8: assimilation.parameters[0].pose: expected one of rx, ry, rz, tx, ty, "
+            "tz, got 'x'");
+  EXPECT_EQ(
+      errorOf(std::string(kStaticBox) + kLoad + assimilation("    - {pose: rx, mean: 0}\n", kCloud),
+              dir),
+      "scene.yaml:8: assimilation.parameters[0].stddev: missing (initial standard "
+      "deviation, rad)");
+  EXPECT_EQ(
+      errorOf(std::string(kStaticBox) + kLoad +
+                  assimilation("    - {pose: rx, force: {load: 0, component: x}, mean: 0, "
+                               "stddev: 1}\n",
+                               kCloud),
+              dir),
+      "scene.yaml:8: assimilation.parameters[0]: expected exactly one of young_modulus, spring, "
+      "force, pose (what it sets)");
+}
+
 // A footprint coefficient reshapes how the load's total force is shared, never the total: set
 // before or after the force components, the nodal forces sum to the total.
 TEST(PointCloudScene, AFootprintKeepsTheLoadsTotalForce) {

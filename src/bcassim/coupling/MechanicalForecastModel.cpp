@@ -1,5 +1,6 @@
 #include "bcassim/coupling/MechanicalForecastModel.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <stdexcept>
 
@@ -47,6 +48,9 @@ MechanicalForecastModel::MechanicalForecastModel(const MechanicalModel& model,
           "MechanicalForecastModel: static frames need a "
           "SharedFactorization (worker 0 solves the mean)");
   }
+  for (const ModelParameterTarget& target : parameters_)
+    hasPose_ = hasPose_ || std::holds_alternative<ObservationPoseTarget>(target);
+  if (hasPose_) poseCentre_ = model_.mesh->V.colwise().mean().transpose();
   if (options_.tangentBackgroundSteps > options_.tangentRefreshEvery)
     throw std::invalid_argument(
         "MechanicalForecastModel: a background build is adopted before the next one is due "
@@ -180,17 +184,32 @@ void MechanicalForecastModel::unpackState(const Eigen::VectorXd& state, Mechanic
 }
 
 void MechanicalForecastModel::setParameters(const Eigen::VectorXd& params) {
-  for (size_t i = 0; i < parameters_.size(); ++i) applyParameter(parameters_[i], params(i), model_);
+  for (size_t i = 0; i < parameters_.size(); ++i) {
+    const auto index = static_cast<Eigen::Index>(i);
+    if (const auto* pose = std::get_if<ObservationPoseTarget>(&parameters_[i]))
+      pose_(pose->component) = params(index);
+    else
+      applyParameter(parameters_[i], params(index), model_);
+  }
 }
 
 void MechanicalForecastModel::observe(const MechanicalState& s, Eigen::VectorXd& observable) const {
   if (options_.observeNodes) {
     observable = s.x;
-    return;
+  } else {
+    observable.resize(observableSize());
+    for (size_t i = 0; i < observed_.size(); ++i)
+      observable.segment<3>(3 * i) = interpolate(observed_[i], *model_.mesh, s.x);
   }
-  observable.resize(observableSize());
-  for (size_t i = 0; i < observed_.size(); ++i)
-    observable.segment<3>(3 * i) = interpolate(observed_[i], *model_.mesh, s.x);
+  if (!hasPose_) return;
+  // Where the observations see these points: the model's frame moved by the pose.
+  const Vec3 w = pose_.head<3>();
+  const double angle = w.norm();
+  const Eigen::Matrix3d R = angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix()
+                                      : Eigen::Matrix3d::Identity();
+  const Vec3 shift = poseCentre_ + pose_.tail<3>() - R * poseCentre_;
+  for (Eigen::Index i = 0; i < observable.size(); i += 3)
+    observable.segment<3>(i) = R * observable.segment<3>(i) + shift;
 }
 
 // The equilibrium at time t from s (the reference: its positions warm-start Newton, the loads

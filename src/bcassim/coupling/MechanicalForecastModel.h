@@ -182,6 +182,11 @@ class MechanicalForecastModel final : public ForecastModel {
   Eigen::VectorXd referenceLoad_;          // f_ext the reference balances (static; empty: none)
   std::vector<MappedPoint> observed_;
   std::vector<ModelParameterTarget> parameters_;
+  // The observations' pose (ObservationPoseTarget): a rotation vector (rad) about the rest
+  // centroid and a translation (m) applied to the observable; zero: the model's own frame.
+  bool hasPose_ = false;
+  Eigen::Matrix<double, 6, 1> pose_ = Eigen::Matrix<double, 6, 1>::Zero();
+  Vec3 poseCentre_ = Vec3::Zero();
   MechanicalState reference_, work_;
   ForecastModelOptions options_;
   int worker_;

@@ -123,15 +123,21 @@ SpringCoefficientTarget readSpringTarget(const MapReader& r, const MechanicalMod
 EstimatedParameter readParameter(const YamlSource& src, const YAML::Node& node,
                                  const std::string& path, const MechanicalModel& model, double dt) {
   MapReader r(src, node, path,
-              {"name", "young_modulus", "spring", "force", "mean", "stddev", "transform", "lower",
-               "upper", "truth", "random_walk", "random_walk_per_step"});
-  const int targets =
-      (r.has("young_modulus") ? 1 : 0) + (r.has("spring") ? 1 : 0) + (r.has("force") ? 1 : 0);
+              {"name", "young_modulus", "spring", "force", "pose", "mean", "stddev", "transform",
+               "lower", "upper", "truth", "random_walk", "random_walk_per_step"});
+  const int targets = (r.has("young_modulus") ? 1 : 0) + (r.has("spring") ? 1 : 0) +
+                      (r.has("force") ? 1 : 0) + (r.has("pose") ? 1 : 0);
   if (targets != 1)
-    failAt(src, node, path, "expected exactly one of young_modulus, spring, force (what it sets)");
+    failAt(src, node, path,
+           "expected exactly one of young_modulus, spring, force, pose (what it sets)");
   EstimatedParameter p;
   std::string unit;
-  if (r.has("force")) {
+  if (r.has("pose")) {
+    const std::string c = r.choice("pose", "rx", {"rx", "ry", "rz", "tx", "ty", "tz"});
+    const int component = (c[0] == 't' ? 3 : 0) + (c[1] - 'x');
+    p.target = ObservationPoseTarget{component};
+    unit = component < 3 ? "rad" : "m";
+  } else if (r.has("force")) {
     MapReader t(src, r.node("force"), r.pathOf("force"), {"load", "component", "footprint"});
     LoadForceTarget target;
     target.load = t.integer("load", 0);
@@ -511,12 +517,18 @@ AssimilationSettings readAssimilationSettings(const YamlSource& src, const YAML:
     failAt(src, r.has("parameters") ? r.node("parameters") : node, r.pathOf("parameters"),
            "expected a non-empty list of estimated parameters");
   std::set<std::string> names;
+  std::set<int> poses;
   for (size_t i = 0; i < entries.size(); ++i) {
     const std::string path = indexed(r.pathOf("parameters"), i);
     s.parameters.push_back(readParameter(src, entries[i], path, c.model, c.dt));
     if (!names.insert(s.parameters.back().name).second)
       failAt(src, entries[i], path + ".name",
              "name '" + s.parameters.back().name + "' is used twice");
+    if (const auto* pose = std::get_if<ObservationPoseTarget>(&s.parameters.back().target);
+        pose && !poses.insert(pose->component).second)
+      failAt(src, entries[i], path + ".pose",
+             fmt::format("{} is estimated twice; expected each pose coordinate once",
+                         defaultParameterName(*pose)));
   }
 
   if (!r.has("observations"))

@@ -27,6 +27,10 @@ std::string defaultParameterName(const ModelParameterTarget& target) {
     const char* names[] = {"tilt_u", "tilt_v", "concentration"};
     return std::string(names[f->coefficient]) + "_" + std::to_string(f->load);
   }
+  if (const auto* o = std::get_if<ObservationPoseTarget>(&target)) {
+    const char* names[] = {"rx", "ry", "rz", "tx", "ty", "tz"};
+    return std::string("pose_") + names[o->component];
+  }
   const auto& k = std::get<SpringCoefficientTarget>(target);
   const char* names[] = {"k_alpha", "k_beta", "k_gamma"};
   return std::string(names[k.coefficient]) + "_" + std::to_string(k.group);
@@ -70,6 +74,7 @@ void applyParameter(const ModelParameterTarget& target, double value, Mechanical
     load.weights = load.footprint->shares();
     return;
   }
+  if (std::holds_alternative<ObservationPoseTarget>(target)) return;  // not the mechanics
   const auto& k = std::get<SpringCoefficientTarget>(target);
   if (k.group < 0 || k.group >= model.springs.numGroups())
     throw InputError(fmt::format("spring parameter: group {} does not exist ({} groups)", k.group,
@@ -102,6 +107,7 @@ double readParameter(const ModelParameterTarget& target, const MechanicalModel& 
     const NodalLoad& load = loadOf(model, f->load, "footprint");
     return load.footprint ? load.footprint->coefficient(f->coefficient) : 0.0;
   }
+  if (std::holds_alternative<ObservationPoseTarget>(target)) return 0.0;
   const auto& k = std::get<SpringCoefficientTarget>(target);
   const CubicSpringCoefficients c = model.springs.coefficients(k.group);
   return k.coefficient == 0 ? c.kAlpha : k.coefficient == 1 ? c.kBeta : c.kGamma;

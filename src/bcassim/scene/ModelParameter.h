@@ -1,7 +1,8 @@
 // What an estimated scalar sets in the mechanical model: a region's Young's modulus, one
 // coefficient of a spring group (thesis §3.4: E; [k_alpha, k_beta, k_gamma] shared by springs) or
 // one component of a load's total force (an unknown tool force, issue 14), or one coefficient of
-// how that force is shared over the load's zone (the tool's footprint).
+// how that force is shared over the load's zone (the tool's footprint); or one coordinate of the
+// observations' pose (not a mechanical parameter: what the model is compared with moves).
 #pragma once
 #include <string>
 #include <variant>
@@ -38,17 +39,28 @@ struct LoadFootprintTarget {
   int coefficient = 0;
 };
 
+// One coordinate of a small rigid motion between the model's frame and the observations' (the
+// residual error of a camera's registration): 0, 1, 2 = the rotation vector's x, y, z (rad, about
+// the model's rest centroid), 3, 4, 5 = the translation (m). It moves what the model shows the
+// observations (coupling/MechanicalForecastModel), never the mechanics: applyParameter leaves the
+// model as it is.
+struct ObservationPoseTarget {
+  int component = 0;
+};
+
 using ModelParameterTarget =
-    std::variant<YoungModulusTarget, SpringCoefficientTarget, LoadForceTarget, LoadFootprintTarget>;
+    std::variant<YoungModulusTarget, SpringCoefficientTarget, LoadForceTarget, LoadFootprintTarget,
+                 ObservationPoseTarget>;
 
 // The name an estimated parameter gets unless the scene names it: E_<region>, k_alpha_<group>,
-// k_beta_<group>, k_gamma_<group>, F<x|y|z>_<load>, or tilt_u_<load>, tilt_v_<load>,
-// concentration_<load>.
+// k_beta_<group>, k_gamma_<group>, F<x|y|z>_<load>, tilt_u_<load>, tilt_v_<load>,
+// concentration_<load>, or pose_<rx|ry|rz|tx|ty|tz>.
 std::string defaultParameterName(const ModelParameterTarget& target);
 
 // Writes the physical value into the model. Throws InputError if the target does not exist.
 void applyParameter(const ModelParameterTarget& target, double value, MechanicalModel& model);
-// Reads the model's current value of the target (used to report the true value of a scene).
+// Reads the model's current value of the target (used to report the true value of a scene); 0 for
+// a pose coordinate (the model's own frame).
 double readParameter(const ModelParameterTarget& target, const MechanicalModel& model);
 
 }  // namespace bcassim
