@@ -3,7 +3,8 @@
 
     examples/mestdagh-liver/run_mestdagh.py BUILD_DIR OUT_DIR [--data DIR] [--only LAW/NAME ...]
         [--skip-verify] [--skip-register] [--floor] [--threads N] [--tangent mean|own]
-        [--footprint [full|tilt]] [--distribution surface|nodes]
+        [--footprint [full|tilt]] [--distribution surface|nodes] [--pose-error DEG MM]
+        [--estimate-pose]
 
 verify:   static solves of mesh-default under the true tool forces (`bcassim simulate`,
           verify.yaml) against positions-default.npy: relative displacement error
@@ -17,6 +18,11 @@ register: from mesh-remeshed and the point clouds only, the tool force estimated
           frame (`bcassim assimilate`, register.yaml); interior nodes of mesh-default
           interpolated from the estimate (validation points mapped into mesh-remeshed) against
           the truth, next to the rest shape; force error |F_est - F_true| / |F_true|.
+          --pose-error DEG MM: every cloud moved by the same rigid motion first (DEG degrees
+          about an axis through the first cloud's centroid, MM millimetres along a direction,
+          both drawn once with a fixed seed): the clouds of a camera registered that far off.
+          --estimate-pose: the observations' pose estimated with the force (six `pose`
+          parameters, docs/assimilation-format.md).
 
 The scenes are templates: {data}, {sequence}, {inputs}, {material}, {fixed}, {distribution}
 and {threads} are filled in per sequence ({material}: the law of the sequence's family, for both
@@ -233,6 +239,36 @@ def floor(bcassim, data, out, seq):
 FOOTPRINT_TILTS = """
     - {force: {load: 0, footprint: tilt_u}, mean: 0, stddev: 1, random_walk: 0.02}
     - {force: {load: 0, footprint: tilt_v}, mean: 0, stddev: 1, random_walk: 0.02}"""
+# The observations' pose (a camera registration's error): a prior of 0.1 rad (~6 deg) and 1 cm,
+# with a random walk (0.01 rad, 1 mm per sqrt(s)) so that a first frame that turns it far can be
+# undone by the next ones (docs/results.md, *A camera registered off*).
+POSE_PARAMETERS = "".join(
+    f"\n    - {{pose: {c}, mean: 0, stddev: {0.1 if c[0] == 'r' else 0.01}, "
+    f"random_walk: {0.01 if c[0] == 'r' else 0.001}}}"
+    for c in ("rx", "ry", "rz", "tx", "ty", "tz"))
+
+
+def moved_clouds(data, seq, pose_error, folder):
+    """The sequence's clouds moved by one rigid motion of pose_error = (degrees, millimetres)."""
+    rng = np.random.default_rng(2022)
+    axis = rng.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    direction = rng.normal(size=3)
+    direction /= np.linalg.norm(direction)
+    a = np.radians(pose_error[0])
+    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    R = np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
+    source = os.path.join(data, "sequences", seq, "pointclouds")
+    files = sorted(f for f in os.listdir(source) if f.endswith(".txt"))
+    centre = np.loadtxt(os.path.join(source, files[0])).mean(axis=0)
+    os.makedirs(folder, exist_ok=True)
+    for name in files:
+        p = np.loadtxt(os.path.join(source, name))
+        moved = (p - centre) @ R.T + centre + 1e-3 * pose_error[1] * direction
+        np.savetxt(os.path.join(folder, name), moved, fmt="%.17g")
+    return folder
+
+
 FOOTPRINT_PARAMETERS = {
     "none": "",
     "tilt": FOOTPRINT_TILTS,
@@ -247,7 +283,7 @@ TANGENT_SETTINGS = {
 
 
 def register(bcassim, data, out, seq, threads, tangent="own", footprint="none",
-             distribution="surface", reforecasts=2):
+             distribution="surface", reforecasts=2, pose_error=None, estimate_pose=False):
     """Force and interior-node errors of the estimation on mesh-remeshed, per frame."""
     work = os.path.join(out, "register", seq.replace("/", "-"))
     inputs = os.path.join(work, "inputs")
@@ -266,12 +302,15 @@ def register(bcassim, data, out, seq, threads, tangent="own", footprint="none",
             t = (k + 1) * DT
             for i, p in enumerate(P):
                 f.write(f"{t!r},{i},{p[0]!r},{p[1]!r},{p[2]!r}\n")
+    clouds = (moved_clouds(data, seq, pose_error, os.path.join(inputs, "clouds")) if pose_error
+              else os.path.join(data, "sequences", seq, "pointclouds"))
     scene = os.path.join(work, "register.yaml")
     with open(scene, "w") as f:
         f.write(fill("register.yaml", data=data, sequence=seq, inputs=inputs, threads=threads,
                      material=material_of(seq), tangent_settings=TANGENT_SETTINGS[tangent],
-                     distribution=distribution, reforecasts=reforecasts,
-                     footprint=FOOTPRINT_PARAMETERS[footprint]))
+                     distribution=distribution, reforecasts=reforecasts, clouds=clouds,
+                     footprint=FOOTPRINT_PARAMETERS[footprint],
+                     pose=POSE_PARAMETERS if estimate_pose else ""))
     run_dir = os.path.join(work, "run")
     run([bcassim, "assimilate", scene, "--out", run_dir, "-q", "--no-plots"],
         os.path.join(work, "assimilate.log"))
@@ -351,6 +390,12 @@ def main():
                         help="registration: times a frame whose analysis moved the force by more "
                              "than one forecast standard deviation is forecast and analysed again "
                              "about that estimate (0: never; default 2)")
+    parser.add_argument("--pose-error", nargs=2, type=float, metavar=("DEG", "MM"),
+                        help="registration: every cloud moved by one rigid motion of DEG degrees "
+                             "and MM millimetres first (a camera registered that far off)")
+    parser.add_argument("--estimate-pose", action="store_true",
+                        help="registration: estimate the observations' pose with the force (six "
+                             "pose parameters)")
     a = parser.parse_args()
     if not 0 <= a.reforecasts <= 20:
         parser.error(f"--reforecasts: expected 0 to 20, got {a.reforecasts}")
@@ -413,7 +458,8 @@ def main():
         for seq in a.only:
             try:
                 results.append(register(bcassim, data, out, seq, a.threads, a.tangent,
-                                        a.footprint, a.distribution, a.reforecasts))
+                                        a.footprint, a.distribution, a.reforecasts, a.pose_error,
+                                        a.estimate_pose))
             except RunFailed as failure:
                 failed.append((seq, str(failure)))
                 print(f"register {seq}: failed, {failure}", flush=True)
