@@ -88,8 +88,10 @@ Observation PointCloudObservation::linearize(const Eigen::VectorXd& meanObservab
   if (!seen.empty()) {
     const auto kept = std::max<size_t>(
         1, static_cast<size_t>(std::ceil(keepFraction_ * static_cast<double>(seen.size()) - 1e-9)));
-    std::nth_element(seen.begin(), seen.begin() + static_cast<long>(kept - 1), seen.end());
-    if (kept < seen.size()) lastKept = seen[kept - 1];
+    if (kept < seen.size()) {  // with every point kept, the median below is all there is to find
+      std::nth_element(seen.begin(), seen.begin() + static_cast<long>(kept - 1), seen.end());
+      lastKept = seen[kept - 1];
+    }
     std::nth_element(seen.begin(), seen.begin() + static_cast<long>(kept / 2),
                      seen.begin() + static_cast<long>(kept));
     stats_.medianDistance = seen[kept / 2];
