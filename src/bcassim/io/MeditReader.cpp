@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -13,6 +12,7 @@
 #include "bcassim/Error.h"
 #include "bcassim/io/Files.h"
 #include "bcassim/io/TextLines.h"
+#include "bcassim/io/TextTokens.h"
 
 namespace bcassim {
 namespace {
@@ -41,28 +41,13 @@ constexpr Skipped kSkipped[] = {{"Edges", 3},
 
 class Tokens {
  public:
-  Tokens(std::string text, const std::string& path) : text_(std::move(text)), path_(path) {}
+  Tokens(std::string text, const std::string& path)
+      : text_(std::move(text)), tokens_(text_, 1, true), path_(path) {}
+  Tokens(const Tokens&) = delete;  // tokens_ views text_
+  Tokens& operator=(const Tokens&) = delete;
 
   // The next token (empty at the end of the file); comments and blanks skipped.
-  std::string_view next() {
-    for (;;) {
-      while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) {
-        if (text_[pos_] == '\n') ++line_;
-        ++pos_;
-      }
-      if (pos_ < text_.size() && text_[pos_] == '#') {
-        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-        continue;
-      }
-      break;
-    }
-    const size_t start = pos_;
-    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_])) &&
-           text_[pos_] != '#')
-      ++pos_;
-    tokenLine_ = line_;
-    return std::string_view(text_).substr(start, pos_ - start);
-  }
+  std::string_view next() { return tokens_.next(); }
 
   long long integer(const std::string& what) {
     const std::string_view t = next();
@@ -81,7 +66,7 @@ class Tokens {
   // least two bytes) before anything is allocated.
   long long count(std::string_view section, int fields) {
     const long long n = integer(fmt::format("the number of {}", section));
-    const auto left = static_cast<long long>(text_.size() - pos_);
+    const auto left = static_cast<long long>(tokens_.left());
     if (n < 0 || n > std::numeric_limits<int>::max() || (n > 0 && 2 * n * fields - 1 > left))
       fail(fmt::format("{} {}; expected a count in [0, 2^31) that the {} bytes left can hold",
                        section, n, left));
@@ -89,18 +74,17 @@ class Tokens {
   }
 
   [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(fmt::format("{}:{}: {}", path_, tokenLine_, what));
+    throw InputError(fmt::format("{}:{}: {}", path_, tokens_.line(), what));
   }
-  int line() const { return tokenLine_; }
+  int line() const { return tokens_.line(); }
   static std::string text(std::string_view t) {
     return t.empty() ? "the end of the file" : io::excerpt(t);
   }
 
  private:
   std::string text_;
+  io::TextTokens tokens_;  // over text_
   const std::string& path_;
-  size_t pos_ = 0;
-  int line_ = 1, tokenLine_ = 1;
 };
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <bit>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -16,6 +15,7 @@
 #include "bcassim/Error.h"
 #include "bcassim/io/Files.h"
 #include "bcassim/io/TextLines.h"
+#include "bcassim/io/TextTokens.h"
 
 namespace bcassim::io {
 namespace {
@@ -91,7 +91,7 @@ struct Where {
 class DataCursor {
  public:
   DataCursor(std::string_view data, Format format, int line, const std::string& path)
-      : data_(data), format_(format), line_(line), path_(path) {}
+      : data_(data), format_(format), text_(data, line, false), path_(path) {}
 
   double read(Scalar type, const Where& where) {
     return format_ == Format::Ascii ? readText(type, where) : readBinary(type, where);
@@ -111,11 +111,11 @@ class DataCursor {
   // Throws if anything but blanks (ASCII) or nothing at all (binary) is left.
   void requireEnd(const std::string& lastElement) {
     if (format_ == Format::Ascii) {
-      skipBlanks();
-      if (pos_ < data_.size())
+      const std::string_view extra = text_.next();
+      if (!extra.empty())
         throw InputError(
             fmt::format("{}:{}: '{}' after the last element ({}); expected the file to end there",
-                        path_, line_, excerpt(token()), excerpt(lastElement)));
+                        path_, text_.line(), excerpt(extra), excerpt(lastElement)));
       return;
     }
     if (pos_ < data_.size())
@@ -124,8 +124,6 @@ class DataCursor {
                       path_, data_.size() - pos_, excerpt(lastElement)));
   }
 
-  int line() const { return line_; }
-
  private:
   [[noreturn]] void endOfData(const Where& where) const {
     throw InputError(fmt::format(
@@ -133,33 +131,19 @@ class DataCursor {
         where.element->count, excerpt(where.element->name), where.element->count == 1 ? "" : "s"));
   }
 
-  void skipBlanks() {
-    while (pos_ < data_.size() && std::isspace(static_cast<unsigned char>(data_[pos_]))) {
-      if (data_[pos_] == '\n') ++line_;
-      ++pos_;
-    }
-  }
-  std::string_view token() {
-    size_t end = pos_;
-    while (end < data_.size() && !std::isspace(static_cast<unsigned char>(data_[end]))) ++end;
-    return data_.substr(pos_, end - pos_);
-  }
-
   double readText(Scalar type, const Where& where) {
-    skipBlanks();
-    if (pos_ >= data_.size()) endOfData(where);
-    const std::string_view field = token();
-    pos_ += field.size();
+    const std::string_view field = text_.next();
+    if (field.empty()) endOfData(where);
     if (isFloat(type)) {
       double v = 0.0;
       if (!parseDouble(field, v))
-        throw InputError(fmt::format("{}:{}: {} is '{}'; expected a number", path_, line_,
+        throw InputError(fmt::format("{}:{}: {} is '{}'; expected a number", path_, text_.line(),
                                      where.describe(), excerpt(field)));
       return v;
     }
     long long v = 0;
     if (!parseInt(field, v))
-      throw InputError(fmt::format("{}:{}: {} is '{}'; expected an integer", path_, line_,
+      throw InputError(fmt::format("{}:{}: {} is '{}'; expected an integer", path_, text_.line(),
                                    where.describe(), excerpt(field)));
     return static_cast<double>(v);
   }
@@ -199,8 +183,8 @@ class DataCursor {
 
   std::string_view data_;
   Format format_;
-  size_t pos_ = 0;
-  int line_;
+  size_t pos_ = 0;   // binary
+  TextTokens text_;  // ASCII
   const std::string& path_;
 };
 
