@@ -5,9 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
@@ -68,42 +66,10 @@ bool isCloudExtension(const fs::path& p) {
   return ext == ".txt" || ext == ".csv" || ext == ".npy" || ext == ".ply";
 }
 
-std::vector<std::string> splitFields(const std::string& line, char separator) {
-  std::vector<std::string> fields;
-  std::string field;
-  auto flush = [&] {
-    const size_t a = field.find_first_not_of(" \t\r");
-    const size_t b = field.find_last_not_of(" \t\r");
-    fields.push_back(a == std::string::npos ? "" : field.substr(a, b - a + 1));
-    field.clear();
-  };
-  if (separator == ' ') {
-    for (char c : line) {
-      if (c == ' ' || c == '\t' || c == '\r') {
-        if (!field.empty()) flush();
-      } else {
-        field += c;
-      }
-    }
-    if (!field.empty()) flush();
-    return fields;
-  }
-  for (char c : line) {
-    if (c == separator)
-      flush();
-    else
-      field += c;
-  }
-  flush();
-  return fields;
-}
-
-// The whole field as a number (NaN and inf included, as strtod reads them); nullopt otherwise.
-std::optional<double> parseNumber(const std::string& field) {
-  if (field.empty()) return std::nullopt;
-  char* end = nullptr;
-  const double v = std::strtod(field.c_str(), &end);
-  if (end != field.c_str() + field.size()) return std::nullopt;
+// The whole field as a number (NaN and inf included); nullopt otherwise.
+std::optional<double> parseNumber(std::string_view field) {
+  double v = 0.0;
+  if (!io::parseDouble(field, v)) return std::nullopt;
   return v;
 }
 
@@ -137,31 +103,24 @@ class FinitePoints {
   int firstLine_ = 0;
 };
 
-std::ifstream openText(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open file");
-  return in;
-}
-
 Eigen::MatrixX3d readTextCloud(const std::string& path, std::vector<std::string>& notices) {
-  std::ifstream in = openText(path);
+  io::TextLines in(path);
   FinitePoints points;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    const std::vector<std::string> fields = splitFields(line.substr(0, line.find('#')), ' ');
+  while (in.next()) {
+    const std::string_view line = in.line();
+    const std::vector<std::string_view> fields = io::splitBlanks(line.substr(0, line.find('#')));
     if (fields.empty()) continue;
     if (fields.size() != 3)
-      throw InputError(fmt::format("{}:{}: expected 3 numbers (x y z, m), got {} fields", path,
-                                   number, fields.size()));
+      in.fail(fmt::format("expected 3 numbers (x y z, m), got {} fields", fields.size()));
     Eigen::Vector3d p;
     for (int k = 0; k < 3; ++k) {
       const auto v = parseNumber(fields[static_cast<size_t>(k)]);
       if (!v)
-        throw InputError(fmt::format("{}:{}: field {} is not a number ('{}')", path, number,
-                                     "xyz"[k], io::excerpt(fields[static_cast<size_t>(k)])));
+        in.fail(fmt::format("field {} is not a number ('{}')", "xyz"[k],
+                            io::excerpt(fields[static_cast<size_t>(k)])));
       p(k) = *v;
     }
-    points.add(p, number);
+    points.add(p, in.lineNumber());
   }
   return points.take(fileName(path), "line", notices);
 }
@@ -178,14 +137,15 @@ struct CsvLines {
 };
 
 CsvLines readCsvLines(const std::string& path) {
-  std::ifstream in = openText(path);
+  io::TextLines in(path);
   CsvLines csv;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-    std::vector<std::string> fields = splitFields(line, ',');
-    const bool anyNumber = std::any_of(fields.begin(), fields.end(),
-                                       [](const std::string& f) { return parseNumber(f); });
+  while (in.next()) {
+    const std::string& line = in.line();
+    if (io::isBlank(line) || line[0] == '#') continue;
+    const std::vector<std::string_view> split = io::splitCommas(line);
+    std::vector<std::string> fields(split.begin(), split.end());
+    const bool anyNumber =
+        std::any_of(split.begin(), split.end(), [](std::string_view f) { return parseNumber(f); });
     if (csv.rows.empty() && csv.header.empty() && !anyNumber) {
       csv.header = std::move(fields);
       continue;
@@ -194,10 +154,9 @@ CsvLines readCsvLines(const std::string& path) {
                                 ? (csv.rows.empty() ? fields.size() : csv.rows.front().size())
                                 : csv.header.size();
     if (fields.size() != expected)
-      throw InputError(
-          fmt::format("{}:{}: expected {} fields, got {}", path, number, expected, fields.size()));
+      in.fail(fmt::format("expected {} fields, got {}", expected, fields.size()));
     csv.rows.push_back(std::move(fields));
-    csv.lines.push_back(number);
+    csv.lines.push_back(in.lineNumber());
   }
   return csv;
 }
