@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "bcassim/io/RigidTransformReader.h"
 #include "io/IoTestSupport.h"
@@ -79,42 +80,43 @@ TEST(RigidTransformReader, AMatrixWrittenToAFewDigitsIsTakenAsTheNearestRotation
 
 TEST(RigidTransformReader, WhatIsNotARigidMotionInMetresIsOneLine) {
   test::TempDir dir;
-  const Eigen::Matrix4d M = homogeneous(someMotion());
-  auto error = [&](const std::string& name, const std::string& text) {
-    const std::string path = test::writeText(dir.file(name), text);
-    return test::inputErrorOf([&] { readRigidTransform(path); });
+  const std::string expectedRows =
+      "expected the 4 rows of a 4 x 4 rigid transform (rotation and translation in m, last row 0 "
+      "0 0 1)";
+  struct Case {
+    std::string file, text, message;  // the message after "<path>"
   };
-  const std::string p = dir.path() + "/";
-  EXPECT_EQ(error("a.txt", "1 0 0 0\n0 1 0 0\n0 0 1\n0 0 0 1\n"),
-            p + "a.txt:3: expected 4 numbers (row 3 of the 4 x 4 matrix), got 3 fields");
-  EXPECT_EQ(error("b.csv", "1,0,0,0\n0,1,0,0\n0,0,1,nan\n0,0,0,1\n"),
-            p + "b.csv:3: field 4 is not a finite number ('nan')");
-  EXPECT_EQ(error("c.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n"),
-            p + "c.txt: 3 rows; expected the 4 rows of a 4 x 4 rigid transform (rotation and "
-                "translation in m, last row 0 0 0 1)");
-  EXPECT_EQ(error("d.txt", rowsOf(M, " ") + "0 0 0 1\n"),
-            p + "d.txt:5: a fifth row; expected the 4 rows of a 4 x 4 rigid transform (rotation "
-                "and translation in m, last row 0 0 0 1)");
-  EXPECT_EQ(error("e.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0.5 0 1\n"),
-            p + "e.txt: the last row is 0 0.5 0 1; expected 0 0 0 1 (a rigid transform, not a "
-                "projection)");
-  EXPECT_EQ(error("f.txt", "-1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n"),
-            p + "f.txt: the upper-left 3 x 3 has determinant -1; expected a rotation (determinant "
-                "1, not a reflection)");
-  // A millimetre-to-metre scaling (or the reverse) is named as such.
-  EXPECT_EQ(error("g.txt", "1000 0 0 0\n0 1000 0 0\n0 0 1000 0\n0 0 0 1\n"),
-            p + "g.txt: the upper-left 3 x 3 scales lengths by 1000, not a rotation (a change of "
-                "units?); expected a rigid transform in metres");
-  EXPECT_EQ(error("h.txt", "1 0.2 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n"),
-            p + "h.txt: the upper-left 3 x 3 stretches lengths by 0.904988 to 1.10499, not a "
-                "rotation; expected a rigid transform (rotation and translation in m)");
-  EXPECT_EQ(error("i.npy", test::npyArray("<f8", "(3, 4)", std::string(96, '\0'))),
-            p + "i.npy: array of shape (3, 4); expected (4, 4), a rigid transform");
-  EXPECT_EQ(error("j.mat", "1"),
-            p + "j.mat: unsupported transform format '.mat'; expected .csv, .txt or .npy (a 4 x 4 "
-                "matrix)");
-  EXPECT_EQ(test::inputErrorOf([&] { readRigidTransform(p + "none.txt"); }),
-            p + "none.txt: cannot open file");
+  const std::vector<Case> cases = {
+      {"a.txt", "1 0 0 0\n0 1 0 0\n0 0 1\n0 0 0 1\n",
+       ":3: expected 4 numbers (row 3 of the 4 x 4 matrix), got 3 fields"},
+      {"b.csv", "1,0,0,0\n0,1,0,0\n0,0,1,nan\n0,0,0,1\n",
+       ":3: field 4 is not a finite number ('nan')"},
+      {"c.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n", ": 3 rows; " + expectedRows},
+      {"d.txt", rowsOf(homogeneous(someMotion()), " ") + "0 0 0 1\n",
+       ":5: a fifth row; " + expectedRows},
+      {"e.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0.5 0 1\n",
+       ": the last row is 0 0.5 0 1; expected 0 0 0 1 (a rigid transform, not a projection)"},
+      {"f.txt", "-1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n",
+       ": the upper-left 3 x 3 has determinant -1; expected a rotation (determinant 1, not a "
+       "reflection)"},
+      // A millimetre-to-metre scaling (or the reverse) is named as such.
+      {"g.txt", "1000 0 0 0\n0 1000 0 0\n0 0 1000 0\n0 0 0 1\n",
+       ": the upper-left 3 x 3 scales lengths by 1000, not a rotation (a change of units?); "
+       "expected a rigid transform in metres"},
+      {"h.txt", "1 0.2 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n",
+       ": the upper-left 3 x 3 stretches lengths by 0.904988 to 1.10499, not a rotation; "
+       "expected a rigid transform (rotation and translation in m)"},
+      {"i.npy", test::npyArray("<f8", "(3, 4)", std::string(96, '\0')),
+       ": array of shape (3, 4); expected (4, 4), a rigid transform"},
+      {"j.mat", "1",
+       ": unsupported transform format '.mat'; expected .csv, .txt or .npy (a 4 x 4 matrix)"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = test::writeText(dir.file(c.file), c.text);
+    EXPECT_INPUT_ERROR(path + c.message, readRigidTransform(path));
+  }
+  EXPECT_INPUT_ERROR(dir.file("none.txt") + ": cannot open file",
+                     readRigidTransform(dir.file("none.txt")));
 }
 
 }  // namespace
