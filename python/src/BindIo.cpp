@@ -9,6 +9,7 @@
 #include "bcassim/io/MeshReader.h"
 #include "bcassim/io/MeshWriter.h"
 #include "bcassim/io/PointReader.h"
+#include "bcassim/io/RigidTransformReader.h"
 #include "bcassim/io/SurfaceReader.h"
 
 namespace py = pybind11;
@@ -64,6 +65,11 @@ void bindIo(py::module_& m) {
   m.def("read_points", &readPoints, "path"_a, py::call_guard<py::gil_scoped_release>(),
         "Reads #P x 3 points from .csv (x,y,z columns), .txt (x y z per line), .npy or .ply (its "
         "vertices)");
+  m.def("read_rigid_transform", &readRigidTransform, "path"_a,
+        py::call_guard<py::gil_scoped_release>(),
+        "Reads a 4 x 4 rigid transform (rotation, translation in m; last row 0 0 0 1) from .csv, "
+        ".txt or .npy, as `bcassim register` writes it: a RigidTransform (the nearest rotation of "
+        "a matrix written to a few digits); a scaling, shear or reflection raises InputError");
 }
 
 }  // namespace bcassim::python

@@ -58,6 +58,20 @@ def test_points_are_registered_rigidly_onto_a_surface():
         bcassim.tracking.register_points_to_surface(points[:3], surface)
 
 
+def test_a_registration_is_read_back_as_a_scene_would(tmp_path):
+    """What `bcassim register` writes (4 x 4, points -> model) reads back as the same motion."""
+    R, t = rotation([0, 1, 1], 25), np.array([0.1, 0.02, -0.3])
+    M = np.eye(4)
+    M[:3, :3], M[:3, 3] = R, t
+    np.savetxt(tmp_path / "transform.csv", M, delimiter=",", fmt="%.17g")
+    read = bcassim.io.read_rigid_transform(str(tmp_path / "transform.csv"))
+    np.testing.assert_allclose(read.rotation, R, atol=1e-15)
+    np.testing.assert_allclose(read.translation, t, atol=1e-15)
+    np.savetxt(tmp_path / "mm.txt", np.diag([1e3, 1e3, 1e3, 1.0]))
+    with pytest.raises(bcassim.InputError, match="scales lengths by 1000"):
+        bcassim.io.read_rigid_transform(str(tmp_path / "mm.txt"))
+
+
 def test_surface_distance_and_registration():
     sphere = make_icosphere_surface(0.05, 2)
     moved = TriMesh(np.asarray(sphere.V) * [1.2, 1.0, 0.9] + [0.005, 0, 0], sphere.F)
