@@ -557,6 +557,13 @@ void writeCheckpoint(int step, const AssimilationSetup& setup, const Assimilatio
   writeAssimilationCheckpoint(files.checkpointPath, files.checkpointKey, c);
 }
 
+// A line of notices.txt (flushed at once) and of the run's result.
+void addNotice(const std::string& line, AssimilationFiles& files, FilterLoopState& loop) {
+  files.notices << line << '\n';
+  flushOrThrow(files.notices, files.noticesPath);
+  loop.result.notices.push_back(line);
+}
+
 // One step: observe (`markers`: the step's markers, null for none) -> filter step (forecast and
 // correction) -> log the estimate -> validation and hidden points (published to `stream`) ->
 // timing -> checkpoint (at output steps). Every row is flushed.
@@ -593,9 +600,7 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
         "{}: assimilation step {} (t = {:.6g} s): {}; the step's forecasts were redone with the "
         "sigma points at 1/{} of their spread from the mean",
         scene.sourceFile, step, time, report.forecastFailure, 1 << report.forecastHalvings);
-    files.notices << line << '\n';
-    flushOrThrow(files.notices, files.noticesPath);
-    loop.result.notices.push_back(line);
+    addNotice(line, files, loop);
     if (stream && stream->notice) stream->notice(line);
   }
   ForecastStats cost;
@@ -619,9 +624,7 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
           "within {:.3g} mm of the model's surface; a prediction only",
           pc.frameNames[static_cast<size_t>(step)], step, time, pc.minPoints, cloud.points,
           1e3 * cloud.cutoff);
-      files.notices << line << '\n';
-      flushOrThrow(files.notices, files.noticesPath);
-      loop.result.notices.push_back(line);
+      addNotice(line, files, loop);
     } else if (!loop.cloudMisfitNamed) {
       const PointCloudSettings& pc = *s.observations.pointCloud;
       if (cloud.medianDistance > std::max(kMisfitSigmas * sigma, pc.minCutoff)) {
@@ -637,9 +640,7 @@ FilterStepReport filterStep(int step, const Scene& scene, const Eigen::MatrixX3d
                 ? ""
                 : "; points in another frame (a camera's) need observations.frame_transform "
                   "(`bcassim register`'s transform.csv)");
-        files.notices << line << '\n';
-        flushOrThrow(files.notices, files.noticesPath);
-        loop.result.notices.push_back(line);
+        addNotice(line, files, loop);
         loop.cloudMisfitNamed = true;
       }
     }
