@@ -5,10 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <set>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "bcassim/experiments/tracked/SyntheticCamera.h"
 #include "bcassim/experiments/tracked/SyntheticDepthCamera.h"
@@ -262,6 +267,36 @@ TEST(TrackedLiverPipeline, SurfaceRelinearizationsReachTheEstimation) {
   }
   EXPECT_EQ(steps, 4);
   EXPECT_GT(passes, 0);
+}
+
+// A denser camera (--surface-points 3000) is averaged to point_cloud's max_points (2,000) as a
+// scene's clouds are, and the estimation's notices say so.
+TEST(TrackedLiverPipeline, ADenserSurfaceCameraIsThinnedAsASceneCloudIs) {
+  const auto dir = freshDir();
+  TrackedLiverOptions o = smallPhantom(3);
+  o.observe = TrackedObservation::Surface;
+  o.surfaceCamera.pointsPerFrame = 3000;
+  runTrackedLiverPipeline(o, dir.string());
+  std::ifstream csv(dir / "estimate" / "filter.csv");
+  std::string header, row, cell;
+  ASSERT_TRUE(std::getline(csv, header));
+  std::vector<std::string> names;
+  for (std::stringstream line(header); std::getline(line, cell, ',');) names.push_back(cell);
+  const auto column = std::find(names.begin(), names.end(), "cloud_points") - names.begin();
+  ASSERT_LT(column, static_cast<std::ptrdiff_t>(names.size()));
+  int steps = 0;
+  while (std::getline(csv, row)) {
+    std::stringstream line(row);
+    for (std::ptrdiff_t c = 0; c <= column; ++c) std::getline(line, cell, ',');
+    EXPECT_LE(std::stoi(cell), 2000) << row;
+    EXPECT_GT(std::stoi(cell), 500) << row;  // averaged, not decimated to a handful
+    ++steps;
+  }
+  EXPECT_EQ(steps, 3);
+  std::ifstream notices(dir / "estimate" / "notices.txt");
+  const std::string text((std::istreambuf_iterator<char>(notices)), {});
+  EXPECT_NE(text.find("averaged on voxel grids"), std::string::npos) << text;
+  EXPECT_NE(text.find("max_points 2000"), std::string::npos) << text;
 }
 
 // LiTS-11 (shared data) at the pipeline's full-size meshes, a few steps: its 14 tackers on a

@@ -453,8 +453,11 @@ class LiverTrackedCommand : public Command {
                    "--observe surface: fraction of the liver's surface area the camera sees")
         ->check(CLI::Range(0.01, 1.0))
         ->capture_default_str();
-    app.add_option("--surface-points", o.surfaceCamera.pointsPerFrame,
-                   "--observe surface: points per frame, drawn afresh from the visible part")
+    app.add_option(
+           "--surface-points", o.surfaceCamera.pointsPerFrame,
+           "--observe surface: points per frame, drawn afresh from the visible part (at most its "
+           "3,000 samples); over 2,000 a frame is averaged on voxel grids to 2,000, as "
+           "point_cloud.max_points does a scene's clouds")
         ->check(CLI::Range(10, 1000000))
         ->capture_default_str();
     app.add_option("--surface-outliers", o.surfaceCamera.outliers,

@@ -14,7 +14,7 @@
 #include "bcassim/io/PointCloudFrames.h"
 #include "bcassim/io/RigidTransformReader.h"
 #include "bcassim/mechanics/FrozenTangent.h"
-#include "bcassim/mesh/VoxelGrid.h"
+#include "bcassim/scene/PointCloudThinning.h"
 #include "bcassim/scene/SceneBuilders.h"
 
 namespace bcassim {
@@ -270,32 +270,6 @@ Eigen::MatrixX3i readTriangles(const std::string& path, Eigen::Index nodes) {
 // point_cloud.max_points' floor: a voxel grid coarser than the whole cloud still leaves 8 cells.
 constexpr int kSmallestMaxPoints = 8;
 
-// Every present frame on point_cloud's voxel grid and under its max_points (mesh/VoxelGrid); one
-// notice says what it did.
-void thinFrames(PointCloudSettings& pc, std::vector<std::string>& notices) {
-  long long thinned = 0, before = 0, after = 0;
-  double finest = 0.0, coarsest = 0.0;
-  for (size_t k = 0; k < pc.frames.size(); ++k) {
-    if (!pc.present[k] || pc.frames[k].rows() == 0) continue;
-    const Eigen::Index n = pc.frames[k].rows();
-    ThinnedPoints t = thinToAtMost(pc.frames[k], pc.maxPoints, pc.voxelSize);
-    if (t.voxel == 0.0) continue;
-    finest = thinned == 0 ? t.voxel : std::min(finest, t.voxel);
-    coarsest = std::max(coarsest, t.voxel);
-    ++thinned;
-    before += n;
-    after += t.points.rows();
-    pc.frames[k] = std::move(t.points);
-  }
-  if (thinned == 0) return;
-  notices.push_back(fmt::format(
-      "point_cloud: {} frame{} averaged on voxel grids of {:.3g}{} mm (voxel_size {:.6g} m, "
-      "max_points {}): {} points a frame on average, from {}",
-      thinned, thinned == 1 ? "" : "s", 1e3 * finest,
-      coarsest > finest ? fmt::format("-{:.3g}", 1e3 * coarsest) : std::string(), pc.voxelSize,
-      pc.maxPoints, after / thinned, before / thinned));
-}
-
 // observations.point_cloud: the frames on the scene's steps (thinned as voxel_size and max_points
 // say), the observed surface and the robust threshold. Frames a step cannot use become notices,
 // not errors.
@@ -392,7 +366,7 @@ PointCloudSettings readPointCloud(const YamlSource& src, const MapReader& obs,
   if (toModel)
     for (size_t k = 0; k < pc.frames.size(); ++k)
       if (pc.present[k] && pc.frames[k].rows() > 0) pc.frames[k] = toModel->apply(pc.frames[k]);
-  thinFrames(pc, notices);
+  thinPointCloudFrames(pc, notices);
   int usable = 0;
   for (size_t k = 1; k <= steps; ++k) {
     if (!pc.present[k]) continue;

@@ -22,6 +22,7 @@
 #include "bcassim/mesh/VisibleSurface.h"
 #include "bcassim/scene/ModelParameter.h"
 #include "bcassim/scene/NodePoints.h"
+#include "bcassim/scene/PointCloudThinning.h"
 #include "bcassim/scene/SceneBuilders.h"
 #include "bcassim/tracking/LabelledTracks.h"
 #include "bcassim/tracking/SurfaceRegistration.h"
@@ -341,6 +342,8 @@ TrackedLiverReport runTrackedLiverPipeline(const TrackedLiverOptions& o, const s
     AssimilationSettings& s = estimation.assimilation.value();
     if (cloud) {
       s.observations.pointCloud = std::move(cloud);
+      // As a scene's clouds are: a denser camera (--surface-points) averaged to max_points.
+      thinPointCloudFrames(*s.observations.pointCloud, s.notices);
     } else {
       s.observations.tracks =
           readStepFrames(observedTracks.string(), report.markers, "tracked tackers",
