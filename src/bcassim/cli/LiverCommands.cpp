@@ -456,7 +456,7 @@ class LiverTrackedCommand : public Command {
     app.add_option(
            "--surface-points", o.surfaceCamera.pointsPerFrame,
            "--observe surface: points per frame, drawn afresh from the visible part (at most its "
-           "3,000 samples); over 2,000 a frame is averaged on voxel grids to 2,000, as "
+           "3,000 samples); over 2,000 a frame is averaged on voxel grids to at most 2,000, as "
            "point_cloud.max_points does a scene's clouds")
         ->check(CLI::Range(10, 1000000))
         ->capture_default_str();
