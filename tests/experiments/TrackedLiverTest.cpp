@@ -5,13 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <iterator>
 #include <random>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +16,7 @@
 #include "bcassim/experiments/tracked/SyntheticDepthCamera.h"
 #include "bcassim/experiments/tracked/TrackedLiverPipeline.h"
 #include "bcassim/experiments/tracked/TrackingScore.h"
+#include "bcassim/io/CsvTable.h"
 #include "support/SharedData.h"
 #include "support/TestFiles.h"
 
@@ -277,24 +275,15 @@ TEST(TrackedLiverPipeline, ADenserSurfaceCameraIsThinnedAsASceneCloudIs) {
   o.observe = TrackedObservation::Surface;
   o.surfaceCamera.pointsPerFrame = 3000;
   runTrackedLiverPipeline(o, dir.string());
-  std::ifstream csv(dir / "estimate" / "filter.csv");
-  std::string header, row, cell;
-  ASSERT_TRUE(std::getline(csv, header));
-  std::vector<std::string> names;
-  for (std::stringstream line(header); std::getline(line, cell, ',');) names.push_back(cell);
-  const auto column = std::find(names.begin(), names.end(), "cloud_points") - names.begin();
-  ASSERT_LT(column, static_cast<std::ptrdiff_t>(names.size()));
-  int steps = 0;
-  while (std::getline(csv, row)) {
-    std::stringstream line(row);
-    for (std::ptrdiff_t c = 0; c <= column; ++c) std::getline(line, cell, ',');
-    EXPECT_LE(std::stoi(cell), 2000) << row;
-    EXPECT_GT(std::stoi(cell), 500) << row;  // averaged, not decimated to a handful
-    ++steps;
+  const CsvTable filter = readCsvTable((dir / "estimate" / "filter.csv").string());
+  const int column = filter.column("cloud_points");
+  ASSERT_GE(column, 0);
+  ASSERT_EQ(filter.rows.rows(), 3);
+  for (Eigen::Index step = 0; step < filter.rows.rows(); ++step) {
+    EXPECT_LE(filter.rows(step, column), 2000) << step;
+    EXPECT_GT(filter.rows(step, column), 500) << step;  // averaged, not decimated to a handful
   }
-  EXPECT_EQ(steps, 3);
-  std::ifstream notices(dir / "estimate" / "notices.txt");
-  const std::string text((std::istreambuf_iterator<char>(notices)), {});
+  const std::string text = test::readText(dir / "estimate" / "notices.txt");
   EXPECT_NE(text.find("averaged on voxel grids"), std::string::npos) << text;
   EXPECT_NE(text.find("max_points 2000"), std::string::npos) << text;
 }
