@@ -19,6 +19,7 @@
 #include "bcassim/experiments/liver/LiverSurfacePath.h"
 #include "bcassim/experiments/tracked/TrackedLiverPipeline.h"
 #include "bcassim/io/OutputDirectoryLock.h"
+#include "bcassim/scene/AssimilationSettings.h"
 #include "bcassim/viz/LiverPicture.h"
 #include "bcassim/viz/PlotScripts.h"
 
@@ -453,11 +454,13 @@ class LiverTrackedCommand : public Command {
                    "--observe surface: fraction of the liver's surface area the camera sees")
         ->check(CLI::Range(0.01, 1.0))
         ->capture_default_str();
-    app.add_option(
-           "--surface-points", o.surfaceCamera.pointsPerFrame,
-           "--observe surface: points per frame, drawn afresh from the visible part (at most its "
-           "3,000 samples); over 2,000 a frame is averaged on voxel grids to at most 2,000, as "
-           "point_cloud.max_points does a scene's clouds")
+    const int cap = PointCloudSettings{}.maxPoints;  // what the pipeline's thinning keeps
+    app.add_option("--surface-points", o.surfaceCamera.pointsPerFrame,
+                   fmt::format("--observe surface: points per frame, drawn afresh from the "
+                               "visible part (at most its {} samples); over {} a frame is "
+                               "averaged on voxel grids to at most {}, as point_cloud.max_points "
+                               "does a scene's clouds",
+                               o.surfaceCamera.samples, cap, cap))
         ->check(CLI::Range(10, 1000000))
         ->capture_default_str();
     app.add_option("--surface-outliers", o.surfaceCamera.outliers,
