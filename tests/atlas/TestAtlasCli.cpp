@@ -75,6 +75,16 @@ TEST(AtlasCli, DistancePrintsTheVarifoldDistanceAndBadInputIsOneLine) {
   const CliRun none = runCli(dir, "atlas loo . --nearest 5,0");
   EXPECT_EQ(none.code, 2);
   EXPECT_EQ(none.err, "bcassim: error: --nearest 0: expected a count >= 1\n");
+  // A fusion template that is not one of the livers, or is the template itself.
+  const std::string livers = (fs::path(test::sharedDataDir()) / "livers").string();
+  for (const std::string name : {"nowhere", "3Dircadb-10"}) {
+    const CliRun fuse = runCli(dir, "atlas loo '" + livers + "' --max-livers 3 --fuse-templates " +
+                                        name + " --template 3Dircadb-10");
+    EXPECT_EQ(fuse.code, 2);
+    EXPECT_EQ(fuse.err, "bcassim: error: --fuse-templates " + name +
+                            ": expected the name of a usable liver of " + livers +
+                            " other than the template\n");
+  }
   const CliRun noAtlas = runCli(dir, "atlas transfer nowhere a.obj");
   EXPECT_EQ(noAtlas.code, 2);
   EXPECT_NE(noAtlas.err.find("nowhere: expected an atlas folder"), std::string::npos)

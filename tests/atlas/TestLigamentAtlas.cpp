@@ -355,5 +355,44 @@ TEST(AtlasLeaveOneOut, NearestShapesLeaveTheOddOneOut) {
               1e3 * f.nearest[0].planeMean);
 }
 
+TEST(AtlasLeaveOneOut, FusedTemplatesThatAgreeGiveTheirCurve) {
+  // The organs are one shape, so every template transfers the same training curves: their fused
+  // curve is each one's (about 0 for the fourth, 4d/3 for the second), whatever the frames in
+  // between — the fourth organ is 30 % larger and moved, the second fusion template is it, and the
+  // curves go through each liver's own frame. The fourth is never held out by its own run: its
+  // fold fuses two curves, the second's three.
+  const double d = 0.009;
+  const std::vector<AtlasSubject> s = fourOrgans(d, 1.3);
+  LeaveOneOutOptions o = foldsOfFourOrgans();
+  o.scaleAlign = true;
+  o.projectOntoSubject = true;
+  o.fusionTemplates = {2, 3};
+  const LeaveOneOutResult r = leaveOneOut(s, o);
+  ASSERT_EQ(r.folds.size(), 2u);
+  const LeaveOneOutFold &fourth = r.folds[0], &second = r.folds[1];
+  EXPECT_EQ(fourth.fusedCurves, 2);
+  EXPECT_EQ(second.fusedCurves, 3);
+  EXPECT_GE(fourth.fused.planes, 5);
+  EXPECT_LT(fourth.fused.planeMean, 1e-3);
+  EXPECT_NEAR(second.fused.planeMean, 4.0 * d / 3.0, 1.5e-3);
+  EXPECT_NEAR(second.fused.planeMean, second.distance.planeMean, 1e-3);
+  // The transferred curve in the fourth organ's own frame lies on its curve.
+  double far = 0;
+  for (Eigen::Index i = 0; i < fourth.predicted.rows(); ++i)
+    far = std::max(far, distanceToPolyline(fourth.predicted.row(i).transpose(), s[3].curve));
+  EXPECT_LT(far, 2e-3);
+  o.fusionTemplates = {0};
+  EXPECT_THROW(
+      {
+        try {
+          leaveOneOut(s, o);
+        } catch (const InputError& e) {
+          EXPECT_STREQ(e.what(), "leave-one-out: cannot fuse template subject 0");
+          throw;
+        }
+      },
+      InputError);
+}
+
 }  // namespace
 }  // namespace bcassim

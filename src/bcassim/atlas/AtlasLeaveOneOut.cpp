@@ -58,10 +58,14 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
   // ridges too where the registrations use them).
   std::vector<TriMesh> aligned(n);
   std::vector<Eigen::MatrixX3d> alignedCurves(n);
+  // Subject i's own frame -> its aligned one: x -> pose[i]((x - centres[i]) scale[i]).
+  std::vector<RigidTransform> pose(n);
+  std::vector<Eigen::RowVector3d> centres(n);
   for (int i = 0; i < n; ++i) {
     TriMesh s = subjects[i].surface;
     Eigen::MatrixX3d c = subjects[i].curve;
     const Eigen::RowVector3d ci = boxCentre(s.V);
+    centres[i] = ci;
     s.V.rowwise() -= ci;
     c.rowwise() -= ci;
     if (i != o.templateSubject) {
@@ -79,6 +83,7 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
         say(fmt::format("{}: {}", subjects[i].name, doubt));
       s.V = t.apply(s.V);
       c = t.apply(c);
+      pose[i] = t;
     }
     aligned[i] = s;
     alignedCurves[i] = c;
@@ -145,6 +150,32 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     const CarriedCurve c = carryCurve(atlas, V);
     return o.projectOntoSubject ? projectOnto(c, aligned[h]).mean : c.mean;
   };
+  // The fusion templates' own leave-one-outs: their curves for each held-out liver, in its frame.
+  std::vector<std::vector<Eigen::MatrixX3d>> fromOthers(n);
+  for (int other : o.fusionTemplates) {
+    if (other < 0 || other >= n || other == o.templateSubject)
+      throw InputError(fmt::format("leave-one-out: cannot fuse template subject {}", other));
+    LeaveOneOutOptions oo = o;
+    oo.templateSubject = other;
+    oo.fusionTemplates.clear();
+    oo.nearestCounts.clear();
+    oo.heldOut.clear();
+    for (int h : held)
+      if (h != other) oo.heldOut.push_back(h);
+    say(fmt::format("fusion: leave-one-out with template {}", subjects[other].name));
+    for (LeaveOneOutFold& f : leaveOneOut(subjects, oo, log).folds)
+      fromOthers[f.subject].push_back(std::move(f.predicted));
+  }
+  const auto toAligned = [&](int h, const Eigen::MatrixX3d& own) {
+    Eigen::MatrixX3d c = own;
+    c.rowwise() -= centres[h];
+    return pose[h].apply(c * res.scale[h]);
+  };
+  const auto toOwn = [&](int h, const Eigen::MatrixX3d& inAligned) {
+    Eigen::MatrixX3d c = pose[h].inverse().apply(inAligned) / res.scale[h];
+    c.rowwise() += centres[h];
+    return c;
+  };
   for (int h : held) {
     std::vector<Eigen::MatrixX3d> others;
     for (int i = 0; i < n; ++i)
@@ -156,7 +187,18 @@ LeaveOneOutResult leaveOneOut(const std::vector<AtlasSubject>& subjects,
     const Eigen::MatrixX3d predicted = predict(h, atlas, deformedHeld[h]);
     f.distance = compare(h, predicted, atlas.planes);
     f.band = compare(h, predicted, atlas.planes, true);
+    f.predicted = toOwn(h, predicted);
     f.rigidOnly = compare(h, predict(h, atlas, templ.V), atlas.planes);
+    if (!o.fusionTemplates.empty()) {
+      std::vector<Eigen::MatrixX3d> transferred{predicted};
+      for (const Eigen::MatrixX3d& c : fromOthers[h]) transferred.push_back(toAligned(h, c));
+      f.fusedCurves = static_cast<int>(transferred.size());
+      const CurveAtlas fused = buildCurveAtlas(aligned[h], transferred, atlas.planes, 1,
+                                               o.atlas.centre, o.atlas.outlierMads);
+      const Eigen::MatrixX3d curve = fused.mean.positions(aligned[h].V);
+      f.fused = compare(h, curve, atlas.planes);
+      f.fusedBand = compare(h, curve, atlas.planes, true);
+    }
     LigamentAtlasOptions om = o.atlas;
     om.centre = CurveCentre::Median;
     const CurveAtlas medianAtlas = ligamentCurveAtlas(templ, others, om);

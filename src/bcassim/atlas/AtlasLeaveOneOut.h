@@ -38,6 +38,12 @@ struct LeaveOneOutOptions {
   // carried onto each, so in correspondence; the held-out one's from its surface alone) —
   // LeaveOneOutFold::nearest, in this order.
   std::vector<int> nearestCounts;
+  // Multi-template fusion: the leave-one-out is run again with each of these subjects as the
+  // template (every other option the same), and each fold's curve is the per-plane centre
+  // (atlas.centre) of the curves the templates transferred onto the held-out liver, on this
+  // template's planes, projected onto the liver — LeaveOneOutFold::fused. A fusion template is
+  // never held out by its own run: its fold fuses the others'.
+  std::vector<int> fusionTemplates;
 };
 
 struct LeaveOneOutFold {
@@ -51,6 +57,10 @@ struct LeaveOneOutFold {
                             // when the subject has no band)
   std::vector<CurveDistance> nearest;      // per LeaveOneOutOptions::nearestCounts: distance
   std::vector<CurveDistance> nearestBand;  // and band, with the k nearest livers' atlas
+  CurveDistance fused;      // with LeaveOneOutOptions::fusionTemplates: the fused curve's distance
+  CurveDistance fusedBand;  // and band
+  int fusedCurves = 0;      // curves fused (this template's and those of the fusion templates)
+  Eigen::MatrixX3d predicted;  // the transferred mean curve in the subject's own frame (m)
 };
 
 struct LeaveOneOutResult {

@@ -468,7 +468,8 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
   f << "liver,planes,mean_mm,max_mm,point_mean_mm,point_max_mm,rigid_only_mean_mm,"
        "rigid_only_max_mm,median_mean_mm,median_max_mm,atlas_points,alignment_rms_mm,data_left,"
        "plain_mean_mean_mm,plain_mean_max_mm,scale,band_planes,band_mean_mm,band_max_mm,"
-       "band_point_mean_mm\n";
+       "band_point_mean_mm,fused_curves,fused_planes,fused_mean_mm,fused_max_mm,"
+       "fused_band_mean_mm\n";
   double sumMean = 0, sumMax = 0, worst = 0, sumRigid = 0, sumPoint = 0, sumMedian = 0,
          sumMedianMax = 0, sumPlain = 0, sumPlainMax = 0;
   std::vector<double> perLiver;
@@ -490,7 +491,15 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
       << (fold.band.planes == 0 ? std::string() : fmt::format("{}", 1e3 * fold.band.planeMean))
       << ','
       << (fold.band.planes == 0 ? std::string() : fmt::format("{}", 1e3 * fold.band.planeMax))
-      << ',' << 1e3 * fold.band.pointMean << '\n';
+      << ',' << 1e3 * fold.band.pointMean << ',' << fold.fusedCurves << ',' << fold.fused.planes
+      << ','
+      << (fold.fused.planes == 0 ? std::string() : fmt::format("{}", 1e3 * fold.fused.planeMean))
+      << ','
+      << (fold.fused.planes == 0 ? std::string() : fmt::format("{}", 1e3 * fold.fused.planeMax))
+      << ','
+      << (fold.fusedBand.planes == 0 ? std::string()
+                                     : fmt::format("{}", 1e3 * fold.fusedBand.planeMean))
+      << '\n';
     if (fold.band.planes > 0) {
       ++bandCounted;
       sumBand += fold.band.planeMean;
@@ -539,6 +548,35 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
         "against the whole annotated band (nearest band crossing per plane) over {} livers: mean "
         "{:.1f} mm, mean of max {:.1f} mm, worst liver {:.1f} mm\n",
         bandCounted, 1e3 * sumBand / bandCounted, 1e3 * sumBandMax / bandCounted, 1e3 * worstBand);
+  }
+  // The curves fused over several templates, over the same folds.
+  if (!r.folds.empty() && r.folds.front().fusedCurves > 0) {
+    std::vector<double> fused;
+    double band = 0, largest = 0;
+    int bandShared = 0, curves = 0;
+    for (const LeaveOneOutFold& fold : r.folds) {
+      curves = std::max(curves, fold.fusedCurves);
+      if (fold.fused.planes > 0) {
+        fused.push_back(fold.fused.planeMean);
+        largest = std::max(largest, fold.fused.planeMean);
+      }
+      if (fold.fusedBand.planes > 0) {
+        ++bandShared;
+        band += fold.fusedBand.planeMean;
+      }
+    }
+    std::sort(fused.begin(), fused.end());
+    const size_t m = fused.size() / 2;
+    const double med = fused.empty()      ? 0.0
+                       : fused.size() % 2 ? fused[m]
+                                          : 0.5 * (fused[m - 1] + fused[m]);
+    double sum = 0;
+    for (double x : fused) sum += x;
+    fmt::print(
+        "fused over {} templates: {} livers share a plane: mean {:.1f} mm, median {:.1f} mm, worst "
+        "liver {:.1f} mm; against the whole band ({} livers) {:.1f} mm\n",
+        curves, fused.size(), 1e3 * sum / std::max<double>(1.0, static_cast<double>(fused.size())),
+        1e3 * med, 1e3 * largest, bandShared, 1e3 * band / std::max(bandShared, 1));
   }
   // The atlases of the nearest shapes, over the same folds.
   const size_t kinds = r.folds.empty() ? 0 : r.folds.front().nearest.size();
@@ -614,6 +652,13 @@ class AtlasLooCommand : public Command {
                    "between their registered templates, which are in correspondence), e.g. "
                    "--nearest 5,10,20")
         ->delimiter(',');
+    app.add_option("--fuse-templates", fuseTemplates_,
+                   "Multi-template fusion: run the leave-one-out again with each of these livers "
+                   "as the template and also report, per fold, the per-plane centre (--centre) "
+                   "of the curves all the templates transferred onto the held-out liver, e.g. "
+                   "--fuse-templates LiTS-5,LiTS-9 (columns fused_* of loo.csv; each adds a "
+                   "run's time)")
+        ->delimiter(',');
     reg_.add(app);
     addThreadsOption(app, threads_, kRegistrationThreads, false);
   }
@@ -657,6 +702,18 @@ class AtlasLooCommand : public Command {
             fmt::format("--template {}: expected the name of a usable liver of {}", templ_, dir_));
       }
     }
+    for (const std::string& name : fuseTemplates_) {
+      int found = -1;
+      for (int i = 0; i < n; ++i)
+        if (livers.subjects[i].name == name) found = i;
+      if (found < 0 || found == o.templateSubject) {
+        throw InputError(fmt::format(
+            "--fuse-templates {}: expected the name of a usable liver of {} other than the "
+            "template",
+            name, dir_));
+      }
+      o.fusionTemplates.push_back(found);
+    }
     // Held out: the first `heldOut_` livers other than the template (all with --held-out 0).
     for (int i = 0; i < n && (heldOut_ <= 0 || static_cast<int>(o.heldOut.size()) < heldOut_); ++i)
       if (i != o.templateSubject) o.heldOut.push_back(i);
@@ -672,6 +729,7 @@ class AtlasLooCommand : public Command {
 
  private:
   std::string dir_, out_ = "out/atlas-loo", templ_;
+  std::vector<std::string> fuseTemplates_;
   int label_ = 2, heldOut_ = 10, maxLivers_ = 0;
   double scale_ = 1e-3, planeStep_ = 5.0, minCrossing_ = 0.25;
   std::string centre_ = "mean";
