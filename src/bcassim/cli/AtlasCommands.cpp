@@ -459,6 +459,14 @@ class AtlasTransferCommand : public Command {
   int threads_ = 0;
 };
 
+// The median of `v` (0 when empty).
+double medianOf(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
 // Writes loo.csv (one row per fold) into out and prints the means over the folds.
 void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubject>& subjects,
                        double planeStep, const std::vector<int>& nearestCounts, const fs::path& out,
@@ -536,10 +544,8 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
         "with the per-plane mean of all crossings (thesis): mean {:.1f} mm, mean of max "
         "{:.1f} mm\n",
         1e3 * sumPlain / counted, 1e3 * sumPlainMax / counted);
-    std::sort(perLiver.begin(), perLiver.end());
-    const size_t m = perLiver.size() / 2;
-    const double med = perLiver.size() % 2 ? perLiver[m] : 0.5 * (perLiver[m - 1] + perLiver[m]);
-    fmt::print("median over livers {:.1f} mm; {} of {} livers within 10 mm\n", 1e3 * med,
+    fmt::print("median over livers {:.1f} mm; {} of {} livers within 10 mm\n",
+               1e3 * medianOf(perLiver),
                std::count_if(perLiver.begin(), perLiver.end(), [](double x) { return x <= 0.01; }),
                counted);
   }
@@ -565,18 +571,13 @@ void reportLeaveOneOut(const LeaveOneOutResult& r, const std::vector<AtlasSubjec
         band += fold.fusedBand.planeMean;
       }
     }
-    std::sort(fused.begin(), fused.end());
-    const size_t m = fused.size() / 2;
-    const double med = fused.empty()      ? 0.0
-                       : fused.size() % 2 ? fused[m]
-                                          : 0.5 * (fused[m - 1] + fused[m]);
     double sum = 0;
     for (double x : fused) sum += x;
     fmt::print(
         "fused over {} templates: {} livers share a plane: mean {:.1f} mm, median {:.1f} mm, worst "
         "liver {:.1f} mm; against the whole band ({} livers) {:.1f} mm\n",
         curves, fused.size(), 1e3 * sum / std::max<double>(1.0, static_cast<double>(fused.size())),
-        1e3 * med, 1e3 * largest, bandShared, 1e3 * band / std::max(bandShared, 1));
+        1e3 * medianOf(fused), 1e3 * largest, bandShared, 1e3 * band / std::max(bandShared, 1));
   }
   // The atlases of the nearest shapes, over the same folds.
   const size_t kinds = r.folds.empty() ? 0 : r.folds.front().nearest.size();
