@@ -694,19 +694,21 @@ class AtlasLooCommand : public Command {
     o.ridgeOnHeldOut = ridgeOnHeldOut_;
     o.nearestCounts = nearest_;
     o.atlas.registration.curveWeight = ridgeWeight_;
-    if (!templ_.empty()) {
-      o.templateSubject = -1;
+    // The index of the usable liver called `name`, -1 if none.
+    const auto liverIndex = [&](const std::string& name) {
       for (int i = 0; i < n; ++i)
-        if (livers.subjects[i].name == templ_) o.templateSubject = i;
+        if (livers.subjects[i].name == name) return i;
+      return -1;
+    };
+    if (!templ_.empty()) {
+      o.templateSubject = liverIndex(templ_);
       if (o.templateSubject < 0) {
         throw InputError(
             fmt::format("--template {}: expected the name of a usable liver of {}", templ_, dir_));
       }
     }
     for (const std::string& name : fuseTemplates_) {
-      int found = -1;
-      for (int i = 0; i < n; ++i)
-        if (livers.subjects[i].name == name) found = i;
+      const int found = liverIndex(name);
       if (found < 0 || found == o.templateSubject) {
         throw InputError(fmt::format(
             "--fuse-templates {}: expected the name of a usable liver of {} other than the "
