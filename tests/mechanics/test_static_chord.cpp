@@ -96,20 +96,28 @@ TEST(StaticChord, OneStepOfTheLinearLawIsTheExactSolution) {
   EXPECT_LT((x - exact).norm(), 1e-10 * (exact - model.restPositions()).norm());
 }
 
-// What the estimated parameters change: a tangent built with 10x softer springs still gives the
-// step of the model's own tangent, since their stiffness is replaced exactly (Woodbury).
-TEST(StaticChord, SpringsOfTheStepReplaceTheTangentsExactly) {
+// The cylinder with two groups of cubic springs on one side, near the tip (at least 4 springs),
+// all taut (a spring's stiffness jumps where it goes slack: a tangent there would change with
+// nanometres of motion).
+MechanicalModel springCylinder() {
   MechanicalModel model = chordCylinder("neohookean");
   std::vector<CubicSpring> springs;
   for (int tet = 0; tet < model.mesh->numTets(); ++tet) {
     Vec3 centre = Vec3::Zero();
     for (int a = 0; a < 4; ++a) centre += 0.25 * model.mesh->V.row(model.mesh->T(tet, a));
     if (std::abs(centre.z() - 0.12) > 0.01 || centre.y() < 0.008) continue;
-    springs.push_back({tet, Vec4::Constant(0.25), centre + Vec3(0, 0.01, 0.005), 0.01,
+    springs.push_back({tet, Vec4::Constant(0.25), centre + Vec3(0.004, 0.01, 0.005), 0.005,
                        static_cast<int>(springs.size() % 2)});
   }
-  ASSERT_GE(springs.size(), 4u);
   model.springs = CubicSpringSet(springs, {{200, 0, 5e4}, {100, 0, 2e4}});
+  return model;
+}
+
+// What the estimated parameters change: a tangent built with 10x softer springs still gives the
+// step of the model's own tangent, since their stiffness is replaced exactly (Woodbury).
+TEST(StaticChord, SpringsOfTheStepReplaceTheTangentsExactly) {
+  const MechanicalModel model = springCylinder();
+  ASSERT_GE(model.springs.springs().size(), 4u);
   const Eigen::VectorXd before = newtonAt(model, 1.0);
   const MechanicalState at{before, Eigen::VectorXd::Zero(before.size()), 1.0};
   MechanicalModel softer = model;
@@ -124,6 +132,48 @@ TEST(StaticChord, SpringsOfTheStepReplaceTheTangentsExactly) {
   chord.chordSolve(model, 1.3, b, *own, 1);
   ASSERT_GT((b - before).norm(), 1e-4);
   EXPECT_LT((a - b).norm(), 1e-9 * (b - before).norm());
+}
+
+// Newton's last factorisation as the tangent at its equilibrium (StaticSolver::newtonTangent): a
+// chord step with it is the step of a tangent built there, to within Newton's last step (it was
+// factorised one step before), the springs' correction included, and its chord reaches the next
+// equilibrium. None where the solve made no factorisation or the solver keeps no exact factor.
+TEST(StaticChord, NewtonsLastFactorServesAsTheTangentAtItsEquilibrium) {
+  const MechanicalModel model = springCylinder();
+  StaticSolver newton(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+  Eigen::VectorXd x = newtonAt(model, 1.0);
+  const auto before = FrozenTangent::buildStatic(model, {x, Eigen::VectorXd::Zero(x.size()), 1.0});
+  newton.continueFrom(model, 1.0);
+  EXPECT_EQ(newton.newtonTangent(model, {x, Eigen::VectorXd::Zero(x.size()), 1.0}), nullptr);
+  ASSERT_GE(newton.solve(model, 1.2, x).iterations, 2);
+  const MechanicalState at{x, Eigen::VectorXd::Zero(x.size()), 1.2};
+  const auto reused = newton.newtonTangent(model, at);
+  ASSERT_NE(reused, nullptr);
+  ASSERT_TRUE(reused->correctsSprings());
+  EXPECT_EQ(reused->buildSeconds(), reused->springSeconds());  // no assembly, no factorisation
+  const auto built = FrozenTangent::buildStatic(model, at);
+  StaticSolver chord(model, makeLinearSolver("cholmod"), {1e-12, 50, 1});
+  Eigen::VectorXd a = x, b = x, c = x;
+  chord.chordSolve(model, 1.3, a, *reused, 1);
+  chord.chordSolve(model, 1.3, b, *built, 1);
+  chord.chordSolve(model, 1.3, c, *before, 1);  // the last equilibrium's tangent, for scale
+  const double step = (b - x).norm();
+  ASSERT_GT(step, 1e-3);
+  EXPECT_LT((a - b).norm(), 1e-3 * step);
+  EXPECT_LT((a - b).norm(), 1e-2 * (c - b).norm());
+  EXPECT_GT((a - b).norm(), 0.0);  // it is the factor of the step before, not a new one
+  Eigen::VectorXd y = x;
+  ASSERT_TRUE(chord.chordSolve(model, 1.3, y, *reused, 30).converged);
+  const Eigen::VectorXd exact = newtonAt(model, 1.3);
+  EXPECT_LT((y - exact).norm(), 1e-8 * (exact - x).norm());
+
+  // A solve already at its equilibrium factorises nothing: the tangent would be another point's.
+  newton.solve(model, 1.2, x);
+  EXPECT_EQ(newton.newtonTangent(model, at), nullptr);
+  StaticSolver pcg(model, makeLinearSolver("factorized-pcg"), {1e-12, 50, 1});
+  Eigen::VectorXd z = model.restPositions();
+  pcg.solve(model, 1.2, z);
+  EXPECT_EQ(pcg.newtonTangent(model, at), nullptr);
 }
 
 TEST(StaticChord, AChordThatCannotConvergeSaysSo) {

@@ -147,6 +147,19 @@ void MechanicalForecastModel::buildMeanTangent(int threads) {
   }
 }
 
+// The mean's tangent from the Newton solve that just made reference_ its equilibrium: its last
+// factorisation, one Newton step before it, instead of one more there (StaticSolver::
+// newtonTangent; ~45 ms of the mestdagh liver's first frame). False where that solve left none.
+bool MechanicalForecastModel::adoptNewtonTangent() {
+  std::shared_ptr<const FrozenTangent> tangent = statics_->newtonTangent(model_, reference_);
+  if (!tangent) return false;
+  tangent->factor().prepareSinglePrecision();
+  shared_->stepsSinceTangent = 0;
+  shared_->tangent = std::move(tangent);
+  stats_.tangentSeconds += shared_->tangent->buildSeconds();
+  return true;
+}
+
 void MechanicalForecastModel::adoptTangent(std::shared_ptr<const FrozenTangent> tangent) {
   shared_->tangent = std::move(tangent);
   stats_.tangentSeconds += shared_->tangent->buildSeconds();
@@ -354,8 +367,9 @@ void MechanicalForecastModel::settleStaticMean(const Eigen::VectorXd& params, bo
       // this equilibrium now, whatever the schedule. (A background build would serve N frames
       // later, and the frames between fell back to Newton too: 250-400 ms each at the mestdagh
       // liver's start.)
+      // After Newton, its last factorisation is the tangent: one fewer in the frame.
       discardPendingTangent();
-      buildMeanTangent(inFrameThreads());
+      if (chorded || !adoptNewtonTangent()) buildMeanTangent(inFrameThreads());
     }
   } else {
     reference_ = shared_->staticMean;

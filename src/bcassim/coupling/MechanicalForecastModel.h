@@ -168,6 +168,7 @@ class MechanicalForecastModel final : public ForecastModel {
                                                    const CholeskyFactor* analysis,
                                                    int threads = 1) const;
   void buildMeanTangent(int threads = 1);
+  bool adoptNewtonTangent();
   // Threads for the work of the analysed mean while the other workers wait (static frames).
   int inFrameThreads() const { return std::max(1, options_.meanThreads); }
   void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);

@@ -1,6 +1,7 @@
 #include "bcassim/mechanics/FrozenTangent.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "bcassim/Stopwatch.h"
 #include "bcassim/mechanics/ImplicitEulerSystem.h"
@@ -137,24 +138,46 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::assemble(const MechanicalMod
   t->factor_->factorize(eliminated, threads);
   const auto factorized = Clock::now();
 
-  const auto& springs = model.springs.springs();
-  if (!springs.empty() && static_cast<int>(springs.size()) <= kMaxCorrectedSprings) {
-    const auto n = static_cast<Eigen::Index>(state.x.size());
-    const auto r = 3 * static_cast<Eigen::Index>(springs.size());
-    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, r);
-    forEachSpringEntry(model, true, [&](Eigen::Index j, int d, double w) { U(d, j) += w; });
-    t->factor_->forwardSolve(U, t->springRows_, t->W_);
-    t->G_.noalias() = t->W_.transpose() * t->W_;
-    for (size_t s = 0; s < springs.size(); ++s)
-      t->springBlocks_.push_back(
-          model.springs.attachmentStiffness(*model.mesh, state.x, state.t, s));
-  }
+  t->prepareSpringCorrection(model, state);
   const auto end = Clock::now();
   t->assemblySeconds_ = secondsBetween(start, assembled);
   t->factorizationSeconds_ = secondsBetween(assembled, factorized);
   t->springSeconds_ = secondsBetween(factorized, end);
   t->buildSeconds_ = secondsBetween(start, end);
   return t;
+}
+
+std::shared_ptr<const FrozenTangent> FrozenTangent::fromFactor(
+    const MechanicalModel& model, const MechanicalState& state, SparseMatrix K,
+    std::shared_ptr<CholeskyFactor> factor) {
+  if (!factor || !factor->isFactorized())
+    throw std::invalid_argument("FrozenTangent::fromFactor: needs a factorised factor");
+  const auto start = Clock::now();
+  auto t = std::make_shared<FrozenTangent>();
+  t->static_ = true;
+  t->stiffnessScale_ = 1.0;
+  t->K_ = std::move(K);
+  t->diagonalNorm_ = t->K_.diagonal().norm();
+  t->factor_ = std::move(factor);
+  t->prepareSpringCorrection(model, state);
+  t->springSeconds_ = t->buildSeconds_ = secondsSince(start);
+  return t;
+}
+
+// W = L^-1 P U and G = W^T W for the springs' low-rank correction, and their blocks H_s at
+// `state` (none beyond kMaxCorrectedSprings springs).
+void FrozenTangent::prepareSpringCorrection(const MechanicalModel& model,
+                                            const MechanicalState& state) {
+  const auto& springs = model.springs.springs();
+  if (springs.empty() || static_cast<int>(springs.size()) > kMaxCorrectedSprings) return;
+  const auto n = static_cast<Eigen::Index>(state.x.size());
+  const auto r = 3 * static_cast<Eigen::Index>(springs.size());
+  Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, r);
+  forEachSpringEntry(model, true, [&](Eigen::Index j, int d, double w) { U(d, j) += w; });
+  factor_->forwardSolve(U, springRows_, W_);
+  G_.noalias() = W_.transpose() * W_;
+  for (size_t s = 0; s < springs.size(); ++s)
+    springBlocks_.push_back(model.springs.attachmentStiffness(*model.mesh, state.x, state.t, s));
 }
 
 }  // namespace bcassim

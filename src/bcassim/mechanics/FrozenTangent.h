@@ -34,6 +34,14 @@ class FrozenTangent {
                                                           const MechanicalState& state,
                                                           const CholeskyFactor* analysis = nullptr,
                                                           int threads = 1);
+  // A static tangent from a factorisation made already: K assembled at (state.x, state.t) and the
+  // factor of eliminated K at a point near it (a Newton solve's last iteration, one step before
+  // its equilibrium), shared, not copied. Chord steps with it converge as with buildStatic's; the
+  // springs' correction is made here as there.
+  static std::shared_ptr<const FrozenTangent> fromFactor(const MechanicalModel& model,
+                                                         const MechanicalState& state,
+                                                         SparseMatrix K,
+                                                         std::shared_ptr<CholeskyFactor> factor);
   bool isStatic() const { return static_; }
 
   double dt() const { return dt_; }
@@ -88,6 +96,7 @@ class FrozenTangent {
                                                        const MechanicalState& state, double dt,
                                                        bool isStatic,
                                                        const CholeskyFactor* analysis, int threads);
+  void prepareSpringCorrection(const MechanicalModel& model, const MechanicalState& state);
 
   bool static_ = false;
   double diagonalNorm_ = 0;

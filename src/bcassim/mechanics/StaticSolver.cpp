@@ -11,6 +11,7 @@
 #include "bcassim/Error.h"
 #include "bcassim/mechanics/InvertedElementError.h"
 #include "bcassim/mechanics/ResidualFloor.h"
+#include "bcassim/mechanics/solvers/CholmodSolver.h"
 
 namespace bcassim {
 
@@ -63,9 +64,11 @@ StaticSolver::StaticSolver(const MechanicalModel& model, std::unique_ptr<LinearS
 void StaticSolver::factorizeRegularized(const MechanicalModel& model) {
   double shift = 0.0;
   const double scale = K_.diagonal().cwiseAbs().mean();
+  factorizedUnshifted_ = false;
   for (int attempt = 0;; ++attempt) {
     try {
       solver_->setMatrix(K_);
+      factorizedUnshifted_ = shift == 0.0;
       return;
     } catch (const NumericalError&) {
       if (attempt == 12) throw;
@@ -86,6 +89,7 @@ void StaticSolver::continueFrom(const MechanicalModel& model, double t) {
 void StaticSolver::warmUp(const MechanicalModel& model, double t, const Eigen::VectorXd& x) {
   Eigen::VectorXd fint;
   try {
+    newtonTangentReady_ = false;
     model.internalForcesAndStiffness(t, x, fint, K_);
     model.dirichlet.eliminateMatrix(K_);
     solver_->setMatrix(K_);
@@ -94,6 +98,7 @@ void StaticSolver::warmUp(const MechanicalModel& model, double t, const Eigen::V
 }
 
 StaticReport StaticSolver::solve(const MechanicalModel& model, double t, Eigen::VectorXd& x) {
+  newtonTangentReady_ = false;
   StaticReport report;
   Increments run{model, t, x, report};
   run.rest = model.restPositions();
@@ -109,7 +114,15 @@ StaticReport StaticSolver::solve(const MechanicalModel& model, double t, Eigen::
                    static_cast<double>(stepIndex) / options_.loadSteps);
   equilibriumLoad_ = run.fext;
   report.converged = true;
+  newtonTangentReady_ = report.iterations > 0 && factorizedUnshifted_;
   return report;
+}
+
+std::shared_ptr<const FrozenTangent> StaticSolver::newtonTangent(const MechanicalModel& model,
+                                                                 const MechanicalState& at) const {
+  const auto* cholmod = dynamic_cast<const CholmodSolver*>(solver_.get());
+  if (!newtonTangentReady_ || !cholmod || !cholmod->factor()->isFactorized()) return nullptr;
+  return FrozenTangent::fromFactor(model, at, K_, cholmod->factor());
 }
 
 // Newton from the equilibrium at `from` to the one at `to`; if that fails, from `from` to the

@@ -89,6 +89,13 @@ class StaticSolver {
   void setRelativeTolerance(double tolerance) { options_.relativeTolerance = tolerance; }
   // The solver of the Newton systems (to share a factorisation between workers).
   LinearSolver& linearSolver() { return *solver_; }
+  // The tangent the last solve() leaves at its equilibrium `at` (the x it returned, at its t):
+  // K assembled there (its last convergence check) and the factor of its last Newton iteration's
+  // K, one step before, shared with the solver: a static mean tangent there without another
+  // factorisation. Null where that solve made no factorisation, its last was regularised (K
+  // was not positive definite), or its linear solver keeps no exact factor (only cholmod does).
+  std::shared_ptr<const FrozenTangent> newtonTangent(const MechanicalModel& model,
+                                                     const MechanicalState& at) const;
 
  private:
   struct Increments;
@@ -102,7 +109,9 @@ class StaticSolver {
   std::unique_ptr<LinearSolver> solver_;
   StaticOptions options_;
   SparseMatrix K_;
-  Eigen::VectorXd equilibriumLoad_;  // f_ext the last solve ended at (N); empty before the first
+  Eigen::VectorXd equilibriumLoad_;   // f_ext the last solve ended at (N); empty before the first
+  bool factorizedUnshifted_ = false;  // the solver's last factorisation was of K itself
+  bool newtonTangentReady_ = false;   // ... and made by the last solve, which returned
   Eigen::VectorXd chordFext_, chordFint_, chordRhs_, chordDx_, chordKnown_, chordTrial_, chordG_;
   AndersonMixing chordMixing_;
   CholeskyFactor::Workspace chordWork_;       // threads 0
