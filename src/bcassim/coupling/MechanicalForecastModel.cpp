@@ -382,9 +382,13 @@ void MechanicalForecastModel::settleStaticMean(const Eigen::VectorXd& params, bo
 // contraction so far says that a second round reaches the tolerance (a few more steps cost less
 // than a factorisation); otherwise, or if that round does not converge either, the tangent is
 // rebuilt at their last iterate (it had grown too far from this frame's: it is then the new mean
-// tangent) and they go on once. False (reference_ untouched) where that does not converge either,
-// or a step inverts an element: Newton solves it then, from `end` (set to their last iterate
-// when they took steps and none failed, else left empty).
+// tangent) and they go on once. That includes a round whose residual did not fall, its steps
+// having lowered only the energy (a nearly incompressible organ after a large load change, the
+// first frame's): one factorisation there and a chord cost less than the 2-7 Newton iterations
+// that otherwise follow (the mestdagh liver's first frames, docs/benchmarks.md §6). False
+// (reference_ untouched) where that does not converge either, or a step inverts an element:
+// Newton solves it then, from `end` (set to their last iterate when they took steps and none
+// failed, else left empty).
 bool MechanicalForecastModel::chordMean(double t, Eigen::VectorXd& end) {
   if (!options_.meanTangent || !shared_->tangent) return false;
   constexpr int kChordIterations = 10;
@@ -408,8 +412,9 @@ bool MechanicalForecastModel::chordMean(double t, Eigen::VectorXd& end) {
       stats_.linearIterations += report.iterations;
       meanChordSteps_ += report.iterations;
       converged = report.converged;
-      if (converged || rebuilt || !(report.residualNorm < report.initialResidualNorm)) break;
-      if (!continued && chordStepsToGo(report) <= kChordIterations) {
+      if (converged || rebuilt) break;
+      const bool lowered = report.residualNorm < report.initialResidualNorm;
+      if (!continued && lowered && chordStepsToGo(report) <= kChordIterations) {
         continued = true;
         continue;
       }
