@@ -85,6 +85,13 @@ TEST(AtlasCli, DistancePrintsTheVarifoldDistanceAndBadInputIsOneLine) {
                             ": expected the name of a usable liver of " + livers +
                             " other than the template\n");
   }
+  const CliRun twice = runCli(dir, "atlas loo '" + livers +
+                                       "' --max-livers 3 --fuse-templates 3Dircadb-11,3Dircadb-11 "
+                                       "--template 3Dircadb-10");
+  EXPECT_EQ(twice.code, 2);
+  EXPECT_EQ(
+      twice.err,
+      "bcassim: error: --fuse-templates 3Dircadb-11: named twice; expected each liver once\n");
   const CliRun noAtlas = runCli(dir, "atlas transfer nowhere a.obj");
   EXPECT_EQ(noAtlas.code, 2);
   EXPECT_NE(noAtlas.err.find("nowhere: expected an atlas folder"), std::string::npos)

@@ -715,6 +715,10 @@ class AtlasLooCommand : public Command {
             "template",
             name, dir_));
       }
+      if (std::find(o.fusionTemplates.begin(), o.fusionTemplates.end(), found) !=
+          o.fusionTemplates.end())
+        throw InputError(
+            fmt::format("--fuse-templates {}: named twice; expected each liver once", name));
       o.fusionTemplates.push_back(found);
     }
     // Held out: the first `heldOut_` livers other than the template (all with --held-out 0).
