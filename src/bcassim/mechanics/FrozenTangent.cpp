@@ -148,7 +148,7 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::assemble(const MechanicalMod
 }
 
 std::shared_ptr<const FrozenTangent> FrozenTangent::fromFactor(
-    const MechanicalModel& model, const MechanicalState& state, SparseMatrix K,
+    const MechanicalModel& model, const MechanicalState& state, const SparseMatrix& K,
     std::shared_ptr<CholeskyFactor> factor) {
   if (!factor || !factor->isFactorized())
     throw std::invalid_argument("FrozenTangent::fromFactor: needs a factorised factor");
@@ -156,7 +156,7 @@ std::shared_ptr<const FrozenTangent> FrozenTangent::fromFactor(
   auto t = std::make_shared<FrozenTangent>();
   t->static_ = true;
   t->stiffnessScale_ = 1.0;
-  t->K_ = std::move(K);
+  t->K_ = K;
   t->diagonalNorm_ = t->K_.diagonal().norm();
   t->factor_ = std::move(factor);
   t->prepareSpringCorrection(model, state);

@@ -36,11 +36,11 @@ class FrozenTangent {
                                                           int threads = 1);
   // A static tangent from a factorisation made already: K assembled at (state.x, state.t) and the
   // factor of eliminated K at a point near it (a Newton solve's last iteration, one step before
-  // its equilibrium), shared, not copied. Chord steps with it converge as with buildStatic's; the
-  // springs' correction is made here as there.
+  // its equilibrium), shared, not copied (K is). Chord steps with it converge as with
+  // buildStatic's; the springs' correction is made here as there.
   static std::shared_ptr<const FrozenTangent> fromFactor(const MechanicalModel& model,
                                                          const MechanicalState& state,
-                                                         SparseMatrix K,
+                                                         const SparseMatrix& K,
                                                          std::shared_ptr<CholeskyFactor> factor);
   bool isStatic() const { return static_; }
 
