@@ -155,15 +155,15 @@ bool MechanicalForecastModel::adoptNewtonTangent() {
   if (!tangent) return false;
   tangent->factor().prepareSinglePrecision();
   shared_->stepsSinceTangent = 0;
-  shared_->tangent = std::move(tangent);
-  stats_.tangentSeconds += shared_->tangent->buildSeconds();
+  adoptTangent(std::move(tangent), false);
   return true;
 }
 
-void MechanicalForecastModel::adoptTangent(std::shared_ptr<const FrozenTangent> tangent) {
+void MechanicalForecastModel::adoptTangent(std::shared_ptr<const FrozenTangent> tangent,
+                                           bool factorized) {
   shared_->tangent = std::move(tangent);
   stats_.tangentSeconds += shared_->tangent->buildSeconds();
-  ++stats_.factorizations;
+  if (factorized) ++stats_.factorizations;
 }
 
 Eigen::Index MechanicalForecastModel::observableSize() const {

@@ -171,7 +171,8 @@ class MechanicalForecastModel final : public ForecastModel {
   bool adoptNewtonTangent();
   // Threads for the work of the analysed mean while the other workers wait (static frames).
   int inFrameThreads() const { return std::max(1, options_.meanThreads); }
-  void adoptTangent(std::shared_ptr<const FrozenTangent> tangent);
+  // `factorized`: the tangent made a factorisation of its own (counted in the stats).
+  void adoptTangent(std::shared_ptr<const FrozenTangent> tangent, bool factorized = true);
   void refreshMeanTangent();
   void adoptBuildIfDue(int stepsSince);
   void discardPendingTangent();
